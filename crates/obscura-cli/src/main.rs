@@ -1,0 +1,42 @@
+//! `obscura`: screen-space ambient occlusion from the command line.
+
+mod output;
+mod render;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Screen-space ambient occlusion on any GPU wgpu reaches, or on the CPU through Mesa's
+/// lavapipe. Set OBSCURA_ADAPTER=cpu|gpu|<name substring> to force the adapter.
+#[derive(Debug, Parser)]
+#[command(name = "obscura", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render a scene's G-buffer and compute its ambient occlusion, written as PNG.
+    Render(render::RenderArgs),
+}
+
+fn main() -> ExitCode {
+    // Mesa's Vulkan device-select layer probes for a display server and prints
+    // "XDG_RUNTIME_DIR is invalid" on headless machines; obscura chooses adapters itself.
+    // Set before any thread exists.
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

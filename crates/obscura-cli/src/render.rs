@@ -1,0 +1,366 @@
+//! `obscura render`: scene → G-buffer → AO → PNG.
+
+use crate::output::{check_png_path, save_png};
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use glam::Vec3;
+use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding};
+use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ProjectionKind {
+    Perspective,
+    Orthographic,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalSource {
+    /// Use the G-buffer's geometric normals (what an engine would pass in).
+    Gbuffer,
+    /// Reconstruct normals from depth alone.
+    Reconstruct,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (.glb, .gltf or .obj). Without it, the built-in courtyard scene is used.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Camera as EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z[,FOV_Y_DEG] in scene units.
+    /// Default: the built-in scene's camera, or one that frames the whole file scene.
+    #[arg(
+        long,
+        value_name = "EX,EY,EZ,TX,TY,TZ[,FOV]",
+        allow_hyphen_values = true
+    )]
+    pub camera: Option<String>,
+    /// Up vector X,Y,Z.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        default_value = "0,1,0",
+        allow_hyphen_values = true
+    )]
+    pub up: String,
+    /// Projection of the camera.
+    #[arg(long, value_enum, default_value_t = ProjectionKind::Perspective)]
+    pub projection: ProjectionKind,
+    /// Vertical field of view in degrees (perspective), unless --camera gives one.
+    #[arg(long, default_value_t = 60.0)]
+    pub fov: f32,
+    /// Height of the orthographic view volume in scene units. Default: fits the scene.
+    #[arg(long)]
+    pub ortho_height: Option<f32>,
+    /// Near and far clip planes in scene units. Default: fitted to the scene bounds.
+    #[arg(long)]
+    pub near: Option<f32>,
+    #[arg(long)]
+    pub far: Option<f32>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// HBAO directions per pixel (1..=32).
+    #[arg(long, default_value_t = AoOptions::default().directions)]
+    pub directions: u32,
+    /// Steps per direction (1..=32).
+    #[arg(long, default_value_t = AoOptions::default().steps)]
+    pub steps: u32,
+    /// Tangent bias angle in degrees (0..60).
+    #[arg(long, default_value_t = AoParams::default().bias_angle_deg)]
+    pub bias: f32,
+    /// Occlusion strength multiplier (0..=4).
+    #[arg(long, default_value_t = AoParams::default().strength)]
+    pub strength: f32,
+    /// Clamp of the on-screen radius in pixels (1..=4096).
+    #[arg(long, default_value_t = AoParams::default().max_radius_px)]
+    pub max_radius_px: f32,
+    /// Where the AO normals come from.
+    #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
+    pub normals: NormalSource,
+    /// Output AO image (8-bit grayscale PNG, white = unoccluded).
+    #[arg(long, default_value = "ao.png")]
+    pub out: PathBuf,
+    /// Also write a linear-depth visualization PNG (near = bright, sky = black).
+    #[arg(long, value_name = "FILE")]
+    pub depth_out: Option<PathBuf>,
+    /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
+    #[arg(long, value_name = "FILE")]
+    pub normals_out: Option<PathBuf>,
+    /// Timed AO runs after one warm-up run; the median is reported.
+    #[arg(long, default_value_t = 5)]
+    pub runs: u32,
+}
+
+fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{what} `{s}` is not a comma-separated list of numbers"))?;
+    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+        bail!("{what} `{s}` contains {bad}; every value must be finite");
+    }
+    Ok(v)
+}
+
+/// Validates every argument that needs no file or GPU.
+fn check_args(a: &RenderArgs) -> Result<()> {
+    if a.width == 0 || a.height == 0 {
+        bail!(
+            "--width and --height must be at least 1 (got {}x{})",
+            a.width,
+            a.height
+        );
+    }
+    if a.runs == 0 || a.runs > 1000 {
+        bail!("--runs must be in 1..=1000 (got {})", a.runs);
+    }
+    check_png_path(&a.out)?;
+    for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
+        check_png_path(p)?;
+    }
+    let options = AoOptions {
+        directions: a.directions,
+        steps: a.steps,
+    };
+    options.validate()?;
+    params(a, 1.0).validate()?;
+    if let Some(r) = a.radius {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--radius must be a finite number > 0 (got {r})");
+        }
+    }
+    Ok(())
+}
+
+fn params(a: &RenderArgs, radius: f32) -> AoParams {
+    AoParams {
+        radius,
+        bias_angle_deg: a.bias,
+        strength: a.strength,
+        max_radius_px: a.max_radius_px,
+    }
+}
+
+/// The camera from the arguments, the built-in scene, or framing the bounds.
+fn camera(a: &RenderArgs, builtin: bool, mesh: &Mesh) -> Result<Camera> {
+    let bounds = mesh.bounds().context("the scene has no triangles")?;
+    let up = parse_floats(&a.up, "--up")?;
+    if up.len() != 3 {
+        bail!("--up needs 3 numbers, got {}", up.len());
+    }
+    let mut fov = a.fov;
+    let mut cam = match &a.camera {
+        Some(s) => {
+            let v = parse_floats(s, "--camera")?;
+            if v.len() != 6 && v.len() != 7 {
+                bail!(
+                    "--camera needs 6 or 7 numbers (eye, target, optional fov), got {}",
+                    v.len()
+                );
+            }
+            if let Some(&f) = v.get(6) {
+                fov = f;
+            }
+            let mut c = Camera {
+                eye: Vec3::new(v[0], v[1], v[2]),
+                target: Vec3::new(v[3], v[4], v[5]),
+                up: Vec3::from_slice(&up),
+                projection: CameraProjection::Perspective { fov_y_deg: fov },
+                near: 0.0,
+                far: 0.0,
+            };
+            c.fit_clip_planes(&bounds);
+            c
+        }
+        None if builtin => default_scene::camera(),
+        None => Camera::framing(&bounds, CameraProjection::Perspective { fov_y_deg: fov }),
+    };
+    cam.up = Vec3::from_slice(&up);
+    cam.projection = match a.projection {
+        ProjectionKind::Perspective => match (&a.camera, builtin) {
+            (None, true) if a.fov == 60.0 => cam.projection,
+            _ => CameraProjection::Perspective { fov_y_deg: fov },
+        },
+        ProjectionKind::Orthographic => CameraProjection::Orthographic {
+            height: a.ortho_height.unwrap_or_else(|| {
+                // Match the perspective view's extent at the target distance.
+                2.0 * (cam.target - cam.eye).length() * (0.5 * fov.to_radians()).tan()
+            }),
+        },
+    };
+    if a.projection == ProjectionKind::Orthographic {
+        // An orthographic camera sees everything in its slab: keep near small but positive.
+        cam.fit_clip_planes(&bounds);
+    }
+    if let Some(n) = a.near {
+        cam.near = n;
+    }
+    if let Some(f) = a.far {
+        cam.far = f;
+    }
+    cam.validate()?;
+    Ok(cam)
+}
+
+fn median_ms(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+pub fn run(a: &RenderArgs) -> Result<()> {
+    check_args(a)?;
+    let t0 = Instant::now();
+    let (mesh, name) = match &a.scene {
+        Some(p) => (
+            Mesh::load(p).with_context(|| format!("cannot load scene `{}`", p.display()))?,
+            p.display().to_string(),
+        ),
+        None => (default_scene::mesh(), "built-in courtyard".to_string()),
+    };
+    let cam = camera(a, a.scene.is_none(), &mesh)?;
+    let bounds = mesh.bounds().context("the scene has no triangles")?;
+    let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+    eprintln!(
+        "scene: {name}: {} triangles, loaded in {:.0} ms",
+        mesh.triangle_count(),
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let t = Instant::now();
+    let raster = GBufferRenderer::new(&ctx.device);
+    let gpu_mesh = raster.upload(&ctx, &mesh)?;
+    let gbuffer = raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+    eprintln!(
+        "g-buffer: {}x{} in {:.1} ms (includes pipeline creation)",
+        a.width,
+        a.height,
+        t.elapsed().as_secs_f64() * 1e3
+    );
+
+    let options = AoOptions {
+        directions: a.directions,
+        steps: a.steps,
+    };
+    let params = params(a, radius);
+    let mut ao = Ao::new(&ctx.device, options)?;
+    let input = AoInput {
+        depth: &gbuffer.depth_view,
+        convention: DepthConvention::Standard,
+        projection: cam.obscura_projection(a.width as f32 / a.height as f32),
+        normals: match a.normals {
+            NormalSource::Gbuffer => Some((&gbuffer.normals_view, NormalEncoding::ViewSigned)),
+            NormalSource::Reconstruct => None,
+        },
+        viewport: None,
+    };
+    ao.validate(&input, &params)?;
+    eprintln!(
+        "ao: HBAO {} directions x {} steps ({} samples/pixel), radius {radius:.3} scene units",
+        options.directions,
+        options.steps,
+        options.samples_per_pixel()
+    );
+    let mut times = Vec::new();
+    for i in 0..=a.runs {
+        let t = Instant::now();
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        if i == 0 {
+            eprintln!("ao: first run {ms:.1} ms (includes shader compilation)");
+        } else {
+            times.push(ms);
+        }
+    }
+    eprintln!(
+        "ao: median {:.2} ms over {} runs (wall clock around submit + wait)",
+        median_ms(times),
+        a.runs
+    );
+
+    let out_tex = ao.output().context("AO output missing after a run")?;
+    let values = ctx.read_f32(out_tex)?;
+    let pixels: Vec<u8> = values
+        .iter()
+        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect();
+    save_png(
+        &a.out,
+        &pixels,
+        a.width,
+        a.height,
+        image::ExtendedColorType::L8,
+    )?;
+    eprintln!("wrote {}", a.out.display());
+
+    if a.depth_out.is_some() || a.normals_out.is_some() {
+        let view = ao.prepared_view().context("prepared buffer missing")?;
+        let prepared = ctx.read_f32(view.texture())?;
+        if let Some(path) = &a.depth_out {
+            save_png(
+                path,
+                &depth_visual(&prepared),
+                a.width,
+                a.height,
+                image::ExtendedColorType::L8,
+            )?;
+            eprintln!("wrote {}", path.display());
+        }
+        if let Some(path) = &a.normals_out {
+            let rgb: Vec<u8> = prepared
+                .chunks_exact(4)
+                .flat_map(|p| {
+                    let sky = p[0] <= 0.0;
+                    [p[1], p[2], p[3]].map(|c| {
+                        if sky {
+                            0
+                        } else {
+                            ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8
+                        }
+                    })
+                })
+                .collect();
+            save_png(
+                path,
+                &rgb,
+                a.width,
+                a.height,
+                image::ExtendedColorType::Rgb8,
+            )?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Log-scaled linear depth: nearest surface white, farthest dark grey, sky black.
+fn depth_visual(prepared: &[f32]) -> Vec<u8> {
+    let depths = prepared.chunks_exact(4).map(|p| p[0]);
+    let (lo, hi) = depths
+        .clone()
+        .filter(|d| *d > 0.0)
+        .fold((f32::INFINITY, 0.0f32), |(lo, hi), d| {
+            (lo.min(d), hi.max(d))
+        });
+    let span = (hi / lo).ln().max(1e-6);
+    depths
+        .map(|d| {
+            if d <= 0.0 {
+                0
+            } else {
+                (255.0 - 215.0 * ((d / lo).ln() / span)).round() as u8
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,179 @@
+//! The `obscura` executable end to end: a small render, and bad input that must end in a
+//! clear message, a non-zero exit, no panic and no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn obscura(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_obscura"))
+        .args(args)
+        .output()
+        .expect("the obscura binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("obscura-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn render_writes_ao_depth_and_normal_images() {
+    let d = scratch("ok");
+    let (ao, depth, normals) = (d.join("ao.png"), d.join("depth.png"), d.join("n.png"));
+    let out = obscura(&[
+        "render",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--runs",
+        "1",
+        "--out",
+        s(&ao),
+        "--depth-out",
+        s(&depth),
+        "--normals-out",
+        s(&normals),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("adapter:") && err.contains("median"),
+        "progress and timing on stderr: {err}"
+    );
+    let img = image::open(&ao).unwrap().to_luma8();
+    assert_eq!(img.dimensions(), (96, 54));
+    let (lo, hi) = img
+        .pixels()
+        .fold((255u8, 0u8), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+    assert!(
+        hi == 255 && lo < 200,
+        "AO image should range from occluded to open: {lo}..{hi}"
+    );
+    assert_eq!(
+        image::open(&normals).unwrap().to_rgb8().dimensions(),
+        (96, 54)
+    );
+    assert_eq!(
+        image::open(&depth).unwrap().to_luma8().dimensions(),
+        (96, 54)
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .to_string_lossy()
+                .contains(".tmp-")
+        })
+        .collect();
+    assert!(leftovers.is_empty());
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+/// Runs `args` (with `--out DIR/ao.png` appended) and checks the failure contract.
+fn assert_fails(name: &str, args: &[&str], message: &str) {
+    let d = scratch(name);
+    let ao = d.join("ao.png");
+    let mut all: Vec<&str> = args.to_vec();
+    all.extend(["--out", s(&ao)]);
+    let out = obscura(&all);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{name}: should fail");
+    assert!(!err.contains("panicked"), "{name}: panicked: {err}");
+    assert!(
+        err.to_lowercase().contains(&message.to_lowercase()),
+        "{name}: expected `{message}` in: {err}"
+    );
+    assert!(!ao.exists(), "{name}: left an output file");
+    let n = std::fs::read_dir(&d).unwrap().count();
+    assert_eq!(n, 0, "{name}: left files behind");
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn bad_input_fails_cleanly() {
+    let d = scratch("inputs");
+    let stl = d.join("model.stl");
+    std::fs::write(&stl, b"solid").unwrap();
+    let glb = d.join("cut.glb");
+    std::fs::write(&glb, b"glTF\x02\x00\x00\x00\xff\xff").unwrap();
+    let missing = d.join("missing.glb");
+    assert_fails(
+        "missing",
+        &["render", "--scene", s(&missing)],
+        "missing.glb",
+    );
+    assert_fails(
+        "extension",
+        &["render", "--scene", s(&stl)],
+        "unsupported scene file extension",
+    );
+    assert_fails("truncated", &["render", "--scene", s(&glb)], "invalid glTF");
+    assert_fails("width0", &["render", "--width", "0"], "--width");
+    assert_fails("height0", &["render", "--height", "0"], "--height");
+    assert_fails(
+        "nan-camera",
+        &["render", "--camera", "nan,1,5,0,0,0"],
+        "finite",
+    );
+    assert_fails(
+        "short-camera",
+        &["render", "--camera", "1,2,3"],
+        "6 or 7 numbers",
+    );
+    assert_fails(
+        "same-eye-target",
+        &["render", "--camera", "1,1,1,1,1,1"],
+        "same point",
+    );
+    assert_fails("radius", &["render", "--radius=-2"], "--radius");
+    assert_fails("directions", &["render", "--directions", "0"], "directions");
+    assert_fails(
+        "huge",
+        &["render", "--width", "100000", "--height", "8"],
+        "exceeds",
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn bad_output_path_fails_before_work() {
+    let d = scratch("outpath");
+    let out = obscura(&["render", "--out", s(&d.join("no/such/dir/ao.png"))]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
+    let out = obscura(&["render", "--out", s(&d.join("ao.jpg"))]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".png"));
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn help_documents_every_option() {
+    let out = obscura(&["render", "--help"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for opt in [
+        "--scene",
+        "--camera",
+        "--width",
+        "--height",
+        "--projection",
+        "--radius",
+        "--directions",
+        "--steps",
+        "--out",
+        "--depth-out",
+        "--normals-out",
+    ] {
+        assert!(text.contains(opt), "help lacks {opt}");
+    }
+    assert!(String::from_utf8_lossy(&obscura(&["--help"]).stdout).contains("OBSCURA_ADAPTER"));
+}

@@ -1,0 +1,237 @@
+//! A look-at camera with perspective or orthographic projection. Depth is written in the
+//! standard [0, 1] convention (near → 0), matching [`obscura::DepthConvention::Standard`].
+
+use crate::{Aabb, SceneError};
+use glam::{Mat4, Vec3, Vec4};
+
+/// The camera's projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraProjection {
+    /// Vertical field of view in degrees.
+    Perspective { fov_y_deg: f32 },
+    /// Height of the view volume in world units.
+    Orthographic { height: f32 },
+}
+
+/// A look-at camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub projection: CameraProjection,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Camera {
+    /// Checks for NaN/inf, eye == target, `up` parallel to the view direction, and bad
+    /// near/far or projection extents.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let bad = |m: String| Err(SceneError::Camera(m));
+        if !(self.eye.is_finite() && self.target.is_finite() && self.up.is_finite()) {
+            return bad(format!(
+                "eye {} / target {} / up {} must be finite",
+                self.eye, self.target, self.up
+            ));
+        }
+        let dir = self.target - self.eye;
+        if dir.length() <= 1e-6 * self.eye.length().max(1.0) {
+            return bad("eye and target are the same point".into());
+        }
+        if dir.normalize().cross(self.up.normalize_or_zero()).length() < 1e-4 {
+            return bad("the up vector is parallel to the view direction".into());
+        }
+        if !(self.near.is_finite()
+            && self.far.is_finite()
+            && self.near > 0.0
+            && self.far > self.near)
+        {
+            return bad(format!(
+                "near {} and far {} must be finite with 0 < near < far",
+                self.near, self.far
+            ));
+        }
+        match self.projection {
+            CameraProjection::Perspective { fov_y_deg }
+                if !(fov_y_deg > 0.1 && fov_y_deg < 179.0) =>
+            {
+                bad(format!("field of view {fov_y_deg}° must be in (0.1, 179)"))
+            }
+            CameraProjection::Orthographic { height } if !(height.is_finite() && height > 0.0) => {
+                bad(format!(
+                    "orthographic height {height} must be finite and > 0"
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// World → view: right-handed, x right, y up, looking down −z.
+    pub fn view_matrix(&self) -> Mat4 {
+        let f = (self.target - self.eye).normalize();
+        let s = f.cross(self.up).normalize();
+        let u = s.cross(f);
+        Mat4::from_cols(
+            Vec4::new(s.x, u.x, -f.x, 0.0),
+            Vec4::new(s.y, u.y, -f.y, 0.0),
+            Vec4::new(s.z, u.z, -f.z, 0.0),
+            Vec4::new(-s.dot(self.eye), -u.dot(self.eye), f.dot(self.eye), 1.0),
+        )
+    }
+
+    /// View → clip, depth in [0, 1].
+    pub fn projection_matrix(&self, aspect: f32) -> Mat4 {
+        match self.projection {
+            // z_ndc = f/(f−n)·(1 − n/d) for view depth d = −z.
+            CameraProjection::Perspective { fov_y_deg } => {
+                let h = 1.0 / (0.5 * fov_y_deg.to_radians()).tan();
+                let r = self.far / (self.near - self.far);
+                Mat4::from_cols(
+                    Vec4::new(h / aspect, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, h, 0.0, 0.0),
+                    Vec4::new(0.0, 0.0, r, -1.0),
+                    Vec4::new(0.0, 0.0, r * self.near, 0.0),
+                )
+            }
+            // z_ndc = (d − n)/(f − n).
+            CameraProjection::Orthographic { height } => {
+                let (hw, hh) = (0.5 * height * aspect, 0.5 * height);
+                let inv = 1.0 / (self.far - self.near);
+                Mat4::from_cols(
+                    Vec4::new(1.0 / hw, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, 1.0 / hh, 0.0, 0.0),
+                    Vec4::new(0.0, 0.0, -inv, 0.0),
+                    Vec4::new(0.0, 0.0, -self.near * inv, 1.0),
+                )
+            }
+        }
+    }
+
+    /// The same projection in obscura's typed form.
+    pub fn obscura_projection(&self, aspect: f32) -> obscura::Projection {
+        match self.projection {
+            CameraProjection::Perspective { fov_y_deg } => obscura::Projection::Perspective {
+                fov_y: fov_y_deg.to_radians(),
+                aspect,
+                near: self.near,
+                far: self.far,
+            },
+            CameraProjection::Orthographic { height } => obscura::Projection::Orthographic {
+                half_width: 0.5 * height * aspect,
+                half_height: 0.5 * height,
+                near: self.near,
+                far: self.far,
+            },
+        }
+    }
+
+    /// Near and far planes that enclose `bounds` as seen from `eye`: far reaches the
+    /// farthest corner, near is 1/10000 of it (Depth32Float keeps ample precision).
+    pub fn fit_clip_planes(&mut self, bounds: &Aabb) {
+        let far = corners(bounds)
+            .iter()
+            .map(|c| (*c - self.eye).length())
+            .fold(0.0f32, f32::max)
+            * 1.01;
+        self.far = far.max(1e-3);
+        self.near = self.far * 1e-4;
+    }
+
+    /// A camera that frames `bounds`: looking at its centre from the front-right and
+    /// above, far enough for the bounding sphere to fit the field of view.
+    pub fn framing(bounds: &Aabb, projection: CameraProjection) -> Camera {
+        let center = bounds.center();
+        let radius = (bounds.diagonal() * 0.5).max(1e-3);
+        let dir = Vec3::new(0.55, 0.45, 1.0).normalize();
+        let dist = match projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                radius / (0.5 * fov_y_deg.to_radians()).sin()
+            }
+            CameraProjection::Orthographic { .. } => radius * 2.0,
+        };
+        let mut cam = Camera {
+            eye: center + dir * dist,
+            target: center,
+            up: Vec3::Y,
+            projection,
+            near: 0.01,
+            far: 100.0,
+        };
+        cam.fit_clip_planes(bounds);
+        cam
+    }
+}
+
+fn corners(b: &Aabb) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cam() -> Camera {
+        Camera {
+            eye: Vec3::new(0.0, 1.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: CameraProjection::Perspective { fov_y_deg: 60.0 },
+            near: 0.1,
+            far: 50.0,
+        }
+    }
+
+    #[test]
+    fn rejects_degenerate_cameras() {
+        cam().validate().unwrap();
+        let mut c = cam();
+        c.eye.x = f32::NAN;
+        assert!(c.validate().is_err());
+        let mut c = cam();
+        c.target = c.eye;
+        assert!(c.validate().is_err());
+        let mut c = cam();
+        c.up = c.target - c.eye;
+        assert!(c.validate().is_err());
+        let mut c = cam();
+        c.far = c.near;
+        assert!(c.validate().is_err());
+    }
+
+    #[test]
+    fn matrix_depth_matches_obscura_linearization() {
+        // The rasterizer's matrix and obscura's typed projection must agree, or AO would be
+        // computed on the wrong geometry.
+        for projection in [
+            CameraProjection::Perspective { fov_y_deg: 50.0 },
+            CameraProjection::Orthographic { height: 4.0 },
+        ] {
+            let c = Camera {
+                projection,
+                ..cam()
+            };
+            let aspect = 1.6;
+            let m = c.projection_matrix(aspect);
+            let lin = c
+                .obscura_projection(aspect)
+                .linearize(obscura::DepthConvention::Standard)
+                .unwrap();
+            for d in [0.5f32, 2.0, 17.0, 45.0] {
+                let clip = m * glam::Vec4::new(0.3, -0.2, -d, 1.0);
+                let z = clip.z / clip.w;
+                let back = lin.apply(z).unwrap();
+                assert!(
+                    (back - d).abs() < 1e-3 * d,
+                    "{projection:?} d={d} got {back}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,243 @@
+//! Rasterizes a [`Mesh`] seen by a [`Camera`] into a G-buffer: `Depth32Float` depth
+//! (standard convention) and `Rgba16Float` view-space normals.
+
+use crate::{Camera, Mesh, SceneError};
+use obscura::GpuContext;
+use wgpu::util::DeviceExt;
+
+/// Depth format of the G-buffer.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Normal format of the G-buffer (view-space xyz, signed).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Uploaded geometry, ready to draw from any camera.
+#[derive(Debug)]
+pub struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+/// Depth and normals of one view.
+#[derive(Debug)]
+pub struct GBuffer {
+    pub depth: wgpu::Texture,
+    pub depth_view: wgpu::TextureView,
+    pub normals: wgpu::Texture,
+    pub normals_view: wgpu::TextureView,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// The G-buffer render pipeline.
+#[derive(Debug)]
+pub struct GBufferRenderer {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    camera: wgpu::Buffer,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct CameraUniform {
+    view: [[f32; 4]; 4],
+    proj: [[f32; 4]; 4],
+}
+
+impl GBufferRenderer {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let label = Some("gbuffer");
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label,
+            source: wgpu::ShaderSource::Wgsl(include_str!("../shaders/gbuffer.wgsl").into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label,
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label,
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(NORMAL_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let camera = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("gbuffer camera"),
+            size: std::mem::size_of::<CameraUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            pipeline,
+            layout,
+            camera,
+        }
+    }
+
+    /// Uploads a mesh. Fails cleanly if it exceeds the device's buffer size limit.
+    pub fn upload(&self, ctx: &GpuContext, mesh: &Mesh) -> Result<GpuMesh, SceneError> {
+        let max = ctx.device.limits().max_buffer_size;
+        let bytes = (mesh.positions.len() * 12).max(mesh.indices.len() * 4) as u64;
+        if bytes > max {
+            return Err(obscura::Error::Gpu(format!(
+                "mesh needs a {bytes}-byte buffer; the device allows {max}"
+            ))
+            .into());
+        }
+        let device = &ctx.device;
+        Ok(GpuMesh {
+            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("mesh vertices"),
+                contents: bytemuck::cast_slice(&mesh.positions),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("mesh indices"),
+                contents: bytemuck::cast_slice(&mesh.indices),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            index_count: mesh.indices.len() as u32,
+        })
+    }
+
+    /// Renders `mesh` from `camera` at `width` × `height`, waiting for completion.
+    pub fn render(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<GBuffer, SceneError> {
+        camera.validate()?;
+        let max = ctx.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(obscura::Error::TooLarge { width, height, max }.into());
+        }
+        let aspect = width as f32 / height as f32;
+        let uniform = CameraUniform {
+            view: camera.view_matrix().to_cols_array_2d(),
+            proj: camera.projection_matrix(aspect).to_cols_array_2d(),
+        };
+        ctx.queue
+            .write_buffer(&self.camera, 0, bytemuck::bytes_of(&uniform));
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let make = |label, format| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let depth = make("gbuffer depth", DEPTH_FORMAT);
+        let normals = make("gbuffer normals", NORMAL_FORMAT);
+        let depth_view = depth.create_view(&Default::default());
+        let normals_view = normals.create_view(&Default::default());
+        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gbuffer"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.camera.as_entire_binding(),
+            }],
+        });
+        ctx.run(|enc| {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("gbuffer"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &normals_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 0.0,
+                            g: 0.0,
+                            b: 1.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+            Ok(())
+        })?;
+        Ok(GBuffer {
+            depth,
+            depth_view,
+            normals,
+            normals_view,
+            width,
+            height,
+        })
+    }
+}

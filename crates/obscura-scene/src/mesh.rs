@@ -1,0 +1,210 @@
+//! Triangle meshes: loading every mesh of a glTF 2.0 or OBJ file with node transforms
+//! applied, flattened into one indexed position list.
+
+use crate::SceneError;
+use glam::{Mat4, Vec3};
+use std::path::Path;
+
+/// An indexed triangle mesh in world space.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    /// Three indices per triangle, each `< positions.len()`.
+    pub indices: Vec<u32>,
+}
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+    pub fn diagonal(&self) -> f32 {
+        (self.max - self.min).length()
+    }
+}
+
+impl Mesh {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Bounds of the referenced vertices, `None` for an empty mesh.
+    pub fn bounds(&self) -> Option<Aabb> {
+        let mut it = self
+            .indices
+            .iter()
+            .map(|&i| Vec3::from(self.positions[i as usize]));
+        let first = it.next()?;
+        let (min, max) = it.fold((first, first), |(a, b), p| (a.min(p), b.max(p)));
+        Some(Aabb { min, max })
+    }
+
+    /// Appends `positions` (transformed by `m`) and triangles `indices` (local to them),
+    /// skipping triangles with an out-of-range index or a non-finite vertex.
+    pub fn append(&mut self, m: Mat4, positions: &[[f32; 3]], indices: &[u32]) {
+        let base = self.positions.len() as u32;
+        self.positions.extend(
+            positions
+                .iter()
+                .map(|&p| m.transform_point3(Vec3::from(p)).to_array()),
+        );
+        for t in indices.chunks_exact(3) {
+            let ok = t.iter().all(|&i| {
+                (i as usize) < positions.len()
+                    && self.positions[(base + i) as usize]
+                        .iter()
+                        .all(|c| c.is_finite())
+            });
+            if ok {
+                self.indices.extend(t.iter().map(|&i| base + i));
+            }
+        }
+    }
+
+    /// Loads a `.glb`, `.gltf` or `.obj` file.
+    pub fn load(path: &Path) -> Result<Mesh, SceneError> {
+        let name = path.display().to_string();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .unwrap_or_default();
+        let mesh = match ext.as_str() {
+            "glb" | "gltf" => load_gltf(path)?,
+            "obj" => load_obj(path)?,
+            _ => return Err(SceneError::UnsupportedExtension(ext)),
+        };
+        if mesh.indices.is_empty() {
+            return Err(SceneError::Empty(name));
+        }
+        Ok(mesh)
+    }
+}
+
+fn io_err(path: &Path, source: std::io::Error) -> SceneError {
+    SceneError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    let err = |reason: String| SceneError::Gltf {
+        path: path.display().to_string(),
+        reason,
+    };
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| err(e.to_string()))?;
+    let buffers = gltf::import_buffers(&gltf.document, path.parent(), gltf.blob.clone())
+        .map_err(|e| err(e.to_string()))?;
+    let mut mesh = Mesh::default();
+    let doc = &gltf.document;
+    // The default scene, else every scene; each node's world transform applied.
+    let roots: Vec<gltf::Node> = match doc.default_scene() {
+        Some(s) => s.nodes().collect(),
+        None => doc.scenes().flat_map(|s| s.nodes()).collect(),
+    };
+    let mut stack: Vec<(gltf::Node, Mat4, u32)> =
+        roots.into_iter().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > 256 {
+            return Err(err("node hierarchy deeper than 256 levels (cycle?)".into()));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(m) = node.mesh() {
+            for prim in m.primitives() {
+                let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+                let Some(pos) = reader.read_positions() else {
+                    continue;
+                };
+                let pos: Vec<[f32; 3]> = pos.collect();
+                let idx: Vec<u32> = match reader.read_indices() {
+                    Some(i) => i.into_u32().collect(),
+                    None => (0..pos.len() as u32).collect(),
+                };
+                let tris = match prim.mode() {
+                    gltf::mesh::Mode::Triangles => idx,
+                    gltf::mesh::Mode::TriangleStrip => (2..idx.len())
+                        .flat_map(|i| {
+                            if i % 2 == 0 {
+                                [idx[i - 2], idx[i - 1], idx[i]]
+                            } else {
+                                [idx[i - 1], idx[i - 2], idx[i]]
+                            }
+                        })
+                        .collect(),
+                    gltf::mesh::Mode::TriangleFan => (2..idx.len())
+                        .flat_map(|i| [idx[0], idx[i - 1], idx[i]])
+                        .collect(),
+                    _ => continue, // points and lines occlude nothing
+                };
+                mesh.append(world, &pos, &tris);
+            }
+        }
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+    Ok(mesh)
+}
+
+fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
+    // Read the file ourselves so a missing file is an I/O error, not a parse error.
+    let text = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are irrelevant to AO: never load them.
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(text), &opts, |_| {
+        Ok((Vec::new(), Default::default()))
+    })
+    .map_err(|e| SceneError::Obj {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    let mut mesh = Mesh::default();
+    for m in models {
+        let pos: Vec<[f32; 3]> = m
+            .mesh
+            .positions
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        mesh.append(Mat4::IDENTITY, &pos, &m.mesh.indices);
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn append_drops_bad_triangles_and_applies_transform() {
+        let mut m = Mesh::default();
+        let pos = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, f32::NAN, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        m.append(
+            Mat4::from_translation(Vec3::new(0.0, 0.0, 5.0)),
+            &pos,
+            &[0, 1, 3, 0, 1, 2, 0, 1, 9],
+        );
+        assert_eq!(m.indices, vec![0, 1, 3]);
+        assert_eq!(m.positions[1], [1.0, 0.0, 5.0]);
+        let b = m.bounds().unwrap();
+        assert_eq!(b.min, Vec3::new(0.0, 0.0, 5.0));
+        assert_eq!(b.max, Vec3::new(1.0, 1.0, 5.0));
+    }
+}

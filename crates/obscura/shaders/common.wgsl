@@ -1,0 +1,40 @@
+// Helpers shared by every pass. Each pass binds `frame: FrameUniforms` at
+// @group(0) @binding(0); the struct and constants above come from Rust (src/shader.rs).
+// The CPU mirror of these functions is src/reference.rs.
+
+const TAU: f32 = 6.283185307179586;
+
+// True for +-inf and NaN. A bit test, because `x != x` may be folded away by a driver.
+fn is_nonfinite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) == 0x7f800000u;
+}
+
+// Linear view depth of a raw depth value, or 0.0 for sky / missing depth (never a near
+// occluder). See src/input.rs, `Linearize::apply`.
+fn linearize_depth(z: f32) -> f32 {
+    if is_nonfinite(z) {
+        return 0.0;
+    }
+    if (frame.sky_test == 0u && z >= 1.0) || (frame.sky_test == 1u && z <= 0.0) {
+        return 0.0;
+    }
+    var d = frame.lin_a * z + frame.lin_b;
+    if frame.lin_reciprocal != 0u {
+        d = 1.0 / d;
+    }
+    if is_nonfinite(d) || d <= 0.0 {
+        return 0.0;
+    }
+    return d;
+}
+
+// View-space position of pixel-space point `p` (viewport-local; pixel centres at +0.5)
+// at linear depth `d`. View space: x right, y up, camera looking down -z.
+fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
+    let ndc = vec2<f32>(p.x * frame.inv_size.x * 2.0 - 1.0, 1.0 - p.y * frame.inv_size.y * 2.0);
+    var xy = ndc * frame.ndc_to_view;
+    if frame.perspective != 0u {
+        xy = xy * d;
+    }
+    return vec3<f32>(xy, -d);
+}

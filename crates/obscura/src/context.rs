@@ -1,0 +1,334 @@
+//! A headless GPU context: instance, adapter choice, device and queue, plus checked
+//! submission and texture read-back for tools and tests.
+//!
+//! Adapter choice: a hardware adapter is preferred; Mesa's lavapipe (a CPU Vulkan driver)
+//! is the fallback. `OBSCURA_ADAPTER=cpu|gpu|<name substring>` forces a choice.
+
+use crate::{Error, Result};
+use std::sync::{Arc, Mutex};
+
+/// The environment variable that forces the adapter choice.
+pub const ADAPTER_ENV: &str = "OBSCURA_ADAPTER";
+
+/// Which adapter to use.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub enum AdapterChoice {
+    /// The best available: discrete GPU, then integrated, virtual, other, then CPU drivers.
+    #[default]
+    Auto,
+    /// A CPU (software) adapter only, e.g. lavapipe.
+    Cpu,
+    /// A hardware adapter only.
+    Gpu,
+    /// The first adapter whose name contains this text (case-insensitive).
+    Name(String),
+}
+
+impl AdapterChoice {
+    /// Reads [`ADAPTER_ENV`]; unset or empty means [`AdapterChoice::Auto`].
+    pub fn from_env() -> Self {
+        match std::env::var(ADAPTER_ENV) {
+            Ok(v) => Self::parse(&v),
+            Err(_) => AdapterChoice::Auto,
+        }
+    }
+
+    /// `auto`, `cpu`, `gpu`, or a name substring.
+    pub fn parse(s: &str) -> Self {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "" | "auto" => AdapterChoice::Auto,
+            "cpu" => AdapterChoice::Cpu,
+            "gpu" => AdapterChoice::Gpu,
+            other => AdapterChoice::Name(other.to_string()),
+        }
+    }
+
+    fn accepts(&self, info: &wgpu::AdapterInfo) -> bool {
+        let cpu = info.device_type == wgpu::DeviceType::Cpu;
+        match self {
+            AdapterChoice::Auto => true,
+            AdapterChoice::Cpu => cpu,
+            AdapterChoice::Gpu => !cpu,
+            AdapterChoice::Name(n) => info.name.to_ascii_lowercase().contains(n.as_str()),
+        }
+    }
+}
+
+/// Native compute APIs only: the GL backend lacks storage-texture formats obscura needs
+/// and, headless, probes for a display server.
+const BACKENDS: wgpu::Backends = wgpu::Backends::PRIMARY;
+
+/// Preference rank of an adapter: lower is better.
+fn rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
+    let kind = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    };
+    // Native compute APIs before GL.
+    let backend = match info.backend {
+        wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => 0,
+        _ => 1,
+    };
+    (kind, backend)
+}
+
+/// Errors reported asynchronously by wgpu, collected instead of panicking.
+#[derive(Debug, Default)]
+struct ErrorSink {
+    uncaptured: Vec<String>,
+    lost: Option<String>,
+}
+
+/// Instance, adapter, device and queue.
+#[derive(Debug)]
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// Name, backend and type of the chosen adapter.
+    pub info: wgpu::AdapterInfo,
+    sink: Arc<Mutex<ErrorSink>>,
+}
+
+impl GpuContext {
+    /// Creates a context on the adapter chosen by [`AdapterChoice::from_env`].
+    pub fn new() -> Result<Self> {
+        Self::with_choice(&AdapterChoice::from_env())
+    }
+
+    /// Creates a context on the best adapter that `choice` accepts.
+    pub fn with_choice(choice: &AdapterChoice) -> Result<Self> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: BACKENDS,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapters = pollster::block_on(instance.enumerate_adapters(BACKENDS));
+        let names: Vec<String> = adapters
+            .iter()
+            .map(|a| {
+                let i = a.get_info();
+                format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type)
+            })
+            .collect();
+        let adapter = adapters
+            .into_iter()
+            .filter(|a| choice.accepts(&a.get_info()))
+            .min_by_key(|a| rank(&a.get_info()))
+            .ok_or_else(|| {
+                if names.is_empty() {
+                    Error::NoAdapter(
+                        "no Vulkan, Metal or DX12 adapter exists on this machine. \
+                         Install a GPU driver, or Mesa's software Vulkan driver: \
+                         `sudo apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu)"
+                            .into(),
+                    )
+                } else {
+                    Error::NoAdapter(format!(
+                        "{ADAPTER_ENV}={choice:?} matches none of the adapters found: {}",
+                        names.join("; ")
+                    ))
+                }
+            })?;
+        let info = adapter.get_info();
+        // Only features that are useful and present: timestamps where the adapter has them.
+        let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("obscura"),
+            required_features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::DeviceCreation {
+            adapter: info.name.clone(),
+            reason: e.to_string(),
+        })?;
+        let sink = Arc::new(Mutex::new(ErrorSink::default()));
+        let s = sink.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut s) = s.lock() {
+                s.uncaptured.push(e.to_string());
+            }
+        }));
+        let s = sink.clone();
+        device.set_device_lost_callback(move |reason, msg| {
+            if let Ok(mut s) = s.lock() {
+                s.lost = Some(format!("{reason:?}: {msg}"));
+            }
+        });
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+            sink,
+        })
+    }
+
+    /// One line describing the adapter, for logs.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {:?}, driver {} {})",
+            self.info.name,
+            self.info.backend,
+            self.info.device_type,
+            self.info.driver,
+            self.info.driver_info
+        )
+    }
+
+    /// True when the device can write timestamps (real GPUs; on lavapipe they do not
+    /// bracket dispatches, so obscura times with the wall clock there).
+    pub fn has_timestamps(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+            && self.info.device_type != wgpu::DeviceType::Cpu
+    }
+
+    /// Returns and clears errors wgpu reported outside an error scope, or a lost device.
+    pub fn take_errors(&self) -> Result<()> {
+        let mut s = self
+            .sink
+            .lock()
+            .map_err(|_| Error::Gpu("error sink poisoned".into()))?;
+        if let Some(lost) = &s.lost {
+            return Err(Error::DeviceLost(lost.clone()));
+        }
+        if !s.uncaptured.is_empty() {
+            let all = std::mem::take(&mut s.uncaptured).join("\n");
+            return Err(Error::Gpu(all));
+        }
+        Ok(())
+    }
+
+    /// Runs `record` inside validation and out-of-memory error scopes, submits, waits for
+    /// the GPU, and turns any wgpu error into [`Error::Gpu`] / [`Error::DeviceLost`].
+    pub fn run<T>(&self, record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("obscura"),
+            });
+        let value = record(&mut encoder);
+        let index = self.queue.submit([encoder.finish()]);
+        // wgpu-core reports recording and submission errors synchronously: check them
+        // before waiting on a submission that may not exist.
+        let v_err = pollster::block_on(validation.pop());
+        let o_err = pollster::block_on(oom.pop());
+        if let Some(e) = v_err.or(o_err) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        let value = value?;
+        self.wait(index)?;
+        self.take_errors()?;
+        Ok(value)
+    }
+
+    /// Blocks until submission `index` has finished.
+    pub fn wait(&self, index: wgpu::SubmissionIndex) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| Error::DeviceLost(e.to_string()))
+    }
+
+    /// Reads a whole 2D texture (mip 0, layer 0) back as tightly packed bytes.
+    pub fn read_texture(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+        let format = texture.format();
+        let bpp = format
+            .block_copy_size(Some(wgpu::TextureAspect::All))
+            .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+            .ok_or(Error::UnsupportedFormat {
+                what: "read-back",
+                format,
+                expected: "a single-aspect colour or depth format",
+            })?;
+        let (w, h) = (texture.width(), texture.height());
+        let row = w * bpp;
+        let padded =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("obscura read-back"),
+            size: padded as u64 * h as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        self.run(|enc| {
+            enc.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: if format.is_depth_stencil_format() {
+                        wgpu::TextureAspect::DepthOnly
+                    } else {
+                        wgpu::TextureAspect::All
+                    },
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(padded),
+                        rows_per_image: Some(h),
+                    },
+                },
+                texture.size(),
+            );
+            Ok(())
+        })?;
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::DeviceLost(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .map_err(|e| Error::Gpu(e.to_string()))?;
+        let data = slice
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(e.to_string()))?;
+        let mut out = Vec::with_capacity((row * h) as usize);
+        for y in 0..h as usize {
+            let start = y * padded as usize;
+            out.extend_from_slice(&data[start..start + row as usize]);
+        }
+        drop(data);
+        buffer.unmap();
+        Ok(out)
+    }
+
+    /// Reads an `R32Float`/`Depth32Float` texture as `f32`s, or `Rgba32Float` as 4 per texel.
+    pub fn read_f32(&self, texture: &wgpu::Texture) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.read_texture(texture)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_adapter_choice() {
+        assert_eq!(AdapterChoice::parse(""), AdapterChoice::Auto);
+        assert_eq!(AdapterChoice::parse("CPU"), AdapterChoice::Cpu);
+        assert_eq!(AdapterChoice::parse(" gpu "), AdapterChoice::Gpu);
+        assert_eq!(
+            AdapterChoice::parse("llvmpipe"),
+            AdapterChoice::Name("llvmpipe".into())
+        );
+    }
+}

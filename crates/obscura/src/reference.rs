@@ -1,0 +1,160 @@
+//! CPU reference of every pass, written to read like the WGSL (same names, same order of
+//! operations) so GPU output can be checked against it in tests. Slow; not for production.
+
+use crate::uniforms::FrameUniforms;
+use glam::{Vec3, Vec4};
+
+/// Linear depth of viewport-local pixel `p` of a raw depth image (`width` × `height`,
+/// row-major, covering the whole input texture); 0 outside the viewport or for sky.
+fn linear_depth_at(f: &FrameUniforms, raw: &[f32], raw_width: u32, p: [i32; 2]) -> f32 {
+    if p[0] < 0 || p[1] < 0 || p[0] >= f.size[0] as i32 || p[1] >= f.size[1] as i32 {
+        return 0.0;
+    }
+    let x = p[0] as u32 + f.viewport_origin[0];
+    let y = p[1] as u32 + f.viewport_origin[1];
+    f.linearize()
+        .apply(raw[(y * raw_width + x) as usize])
+        .unwrap_or(0.0)
+}
+
+fn centre(p: [i32; 2]) -> [f32; 2] {
+    [p[0] as f32 + 0.5, p[1] as f32 + 0.5]
+}
+
+fn axis_derivative(
+    f: &FrameUniforms,
+    raw: &[f32],
+    raw_width: u32,
+    p: [i32; 2],
+    axis: [i32; 2],
+    c: Vec3,
+    dc: f32,
+) -> Option<Vec3> {
+    for k in 1..=2 {
+        let m = [p[0] - axis[0] * k, p[1] - axis[1] * k];
+        let pp = [p[0] + axis[0] * k, p[1] + axis[1] * k];
+        let dm = linear_depth_at(f, raw, raw_width, m);
+        let dp = linear_depth_at(f, raw, raw_width, pp);
+        if dp > 0.0 && (dm <= 0.0 || (dp - dc).abs() < (dm - dc).abs()) {
+            return Some(f.view_position(centre(pp), dp) - c);
+        }
+        if dm > 0.0 {
+            return Some(c - f.view_position(centre(m), dm));
+        }
+    }
+    None
+}
+
+/// The prepare pass with normals reconstructed from depth: `vec4(d, n)` per viewport pixel.
+pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let mut out = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let p = [x, y];
+            let d = linear_depth_at(f, raw, raw_width, p);
+            if d <= 0.0 {
+                out.push(Vec4::new(0.0, 0.0, 0.0, 1.0));
+                continue;
+            }
+            let c = f.view_position(centre(p), d);
+            let dx = axis_derivative(f, raw, raw_width, p, [1, 0], c, d);
+            let dy = axis_derivative(f, raw, raw_width, p, [0, 1], c, d);
+            let n = match (dx, dy) {
+                (Some(dx), Some(dy)) if dy.cross(dx).length_squared() > 0.0 => {
+                    let nn = dy.cross(dx).normalize();
+                    if nn.dot(c) > 0.0 {
+                        -nn
+                    } else {
+                        nn
+                    }
+                }
+                _ => (-c).normalize(),
+            };
+            out.push(Vec4::new(d, n.x, n.y, n.z));
+        }
+    }
+    out
+}
+
+/// HBAO of one pixel; mirrors `hbao` in shaders/hbao.wgsl.
+pub fn hbao_pixel(
+    f: &FrameUniforms,
+    directions: u32,
+    steps: u32,
+    prepared: &[Vec4],
+    p: [i32; 2],
+    pattern: [f32; 4],
+) -> f32 {
+    let width = f.size[0] as i32;
+    let centre_v = prepared[(p[1] * width + p[0]) as usize];
+    let d = centre_v.x;
+    if d <= 0.0 {
+        return 1.0;
+    }
+    let n = Vec3::new(centre_v.y, centre_v.z, centre_v.w);
+    let pos = f.view_position(centre(p), d);
+    let mut radius_px = f.radius * f.radius_to_px;
+    if f.perspective != 0 {
+        radius_px /= d;
+    }
+    radius_px = radius_px.min(f.max_radius_px);
+    let step_px = radius_px / (steps + 1) as f32;
+    let mut occlusion = 0.0;
+    for i in 0..directions {
+        let a = i as f32 * (std::f32::consts::TAU / directions as f32);
+        let (bs, bc) = a.sin_cos();
+        let dir = [
+            bc * pattern[0] - bs * pattern[1],
+            bc * pattern[1] + bs * pattern[0],
+        ];
+        let mut ray = pattern[2] * step_px + 1.0;
+        let mut sin_h = f.sin_bias;
+        for _ in 0..steps {
+            // WGSL's round() is round-half-to-even.
+            let q = [
+                p[0] + (dir[0] * ray).round_ties_even() as i32,
+                p[1] + (dir[1] * ray).round_ties_even() as i32,
+            ];
+            ray += step_px;
+            if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+                break;
+            }
+            let sd = prepared[(q[1] * width + q[0]) as usize].x;
+            if sd <= 0.0 {
+                continue;
+            }
+            let v = f.view_position(centre(q), sd) - pos;
+            let r2 = v.dot(v) * f.inv_radius2;
+            if r2 >= 1.0 || r2 <= 0.0 {
+                continue;
+            }
+            let sin_e = n.dot(v) / v.dot(v).sqrt();
+            if sin_e > sin_h {
+                occlusion += (sin_e - sin_h) * (1.0 - r2);
+                sin_h = sin_e;
+            }
+        }
+    }
+    (1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0)
+}
+
+/// The randomized single-pass HBAO over the whole viewport (pattern from the 4×4 table).
+pub fn hbao(f: &FrameUniforms, directions: u32, steps: u32, prepared: &[Vec4]) -> Vec<f32> {
+    let dim = crate::jitter::PATTERN_DIM;
+    let mut out = Vec::with_capacity(prepared.len());
+    for y in 0..f.size[1] {
+        for x in 0..f.size[0] {
+            let pattern = f.patterns[((x % dim) + dim * (y % dim)) as usize];
+            out.push(hbao_pixel(
+                f,
+                directions,
+                steps,
+                prepared,
+                [x as i32, y as i32],
+                pattern,
+            ));
+        }
+    }
+    out
+}

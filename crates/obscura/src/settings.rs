@@ -1,0 +1,183 @@
+//! Settings. [`AoOptions`] fixes what can run and is compiled into pipelines at creation;
+//! [`AoParams`] is cheap to change every frame. Both validate before any GPU work.
+
+use crate::{Error, Result};
+
+/// Creation-time choices: compiled into the shaders as WGSL `override` constants, because
+/// constant loop bounds are markedly faster than uniforms on CPU drivers (see docs/design.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoOptions {
+    /// HBAO directions per pixel. Unit: count. Range 1..=32. Default 8.
+    pub directions: u32,
+    /// Ray-march steps per direction. Unit: count. Range 1..=32. Default 4.
+    /// Samples per pixel = `directions * steps`.
+    pub steps: u32,
+}
+
+impl Default for AoOptions {
+    fn default() -> Self {
+        Self {
+            directions: 8,
+            steps: 4,
+        }
+    }
+}
+
+/// Per-frame parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoParams {
+    /// Radius of the sampled disk, in view-space units (metres for a metre-scaled scene).
+    /// Range: finite, > 0. Default 1.0.
+    pub radius: f32,
+    /// Tangent bias angle in degrees: horizons less than this above the tangent plane do not
+    /// occlude (hides tessellation and depth-precision noise). Range 0..60. Default 10.
+    pub bias_angle_deg: f32,
+    /// Multiplier on the occlusion (1 = the estimator's own value). Range 0..=4. Default 1.
+    pub strength: f32,
+    /// The on-screen radius is clamped to this many pixels (keeps near-camera cost bounded).
+    /// Range 1..=4096. Default 256.
+    pub max_radius_px: f32,
+}
+
+impl Default for AoParams {
+    fn default() -> Self {
+        Self {
+            radius: 1.0,
+            bias_angle_deg: 10.0,
+            strength: 1.0,
+            max_radius_px: 256.0,
+        }
+    }
+}
+
+fn check<T: std::fmt::Display>(
+    ok: bool,
+    field: &'static str,
+    value: T,
+    expected: &'static str,
+) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::InvalidSetting {
+            field,
+            value: value.to_string(),
+            expected,
+        })
+    }
+}
+
+impl AoOptions {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        check(
+            (1..=32).contains(&self.directions),
+            "directions",
+            self.directions,
+            "an integer in 1..=32",
+        )?;
+        check(
+            (1..=32).contains(&self.steps),
+            "steps",
+            self.steps,
+            "an integer in 1..=32",
+        )
+    }
+
+    /// Samples per pixel of the AO pass.
+    pub fn samples_per_pixel(&self) -> u32 {
+        self.directions * self.steps
+    }
+}
+
+impl AoParams {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        check(
+            self.radius.is_finite() && self.radius > 0.0,
+            "radius",
+            self.radius,
+            "a finite number > 0 (view-space units)",
+        )?;
+        check(
+            (0.0..60.0).contains(&self.bias_angle_deg),
+            "bias_angle_deg",
+            self.bias_angle_deg,
+            "degrees in [0, 60)",
+        )?;
+        check(
+            (0.0..=4.0).contains(&self.strength),
+            "strength",
+            self.strength,
+            "a number in [0, 4]",
+        )?;
+        check(
+            (1.0..=4096.0).contains(&self.max_radius_px),
+            "max_radius_px",
+            self.max_radius_px,
+            "pixels in [1, 4096]",
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        AoOptions::default().validate().unwrap();
+        AoParams::default().validate().unwrap();
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_field() {
+        let cases: [(AoParams, &str); 4] = [
+            (
+                AoParams {
+                    radius: f32::NAN,
+                    ..Default::default()
+                },
+                "radius",
+            ),
+            (
+                AoParams {
+                    bias_angle_deg: 75.0,
+                    ..Default::default()
+                },
+                "bias_angle_deg",
+            ),
+            (
+                AoParams {
+                    strength: -1.0,
+                    ..Default::default()
+                },
+                "strength",
+            ),
+            (
+                AoParams {
+                    max_radius_px: 0.0,
+                    ..Default::default()
+                },
+                "max_radius_px",
+            ),
+        ];
+        for (p, name) in cases {
+            match p.validate() {
+                Err(Error::InvalidSetting { field, .. }) => assert_eq!(field, name),
+                other => panic!("{name}: expected InvalidSetting, got {other:?}"),
+            }
+        }
+        let o = AoOptions {
+            directions: 0,
+            ..Default::default()
+        };
+        assert!(matches!(
+            o.validate(),
+            Err(Error::InvalidSetting {
+                field: "directions",
+                ..
+            })
+        ));
+    }
+}

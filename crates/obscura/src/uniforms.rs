@@ -1,0 +1,117 @@
+//! The per-frame uniform block shared by every pass, and how it is derived from the inputs.
+
+use crate::jitter::{pattern_table, PATTERN_COUNT};
+use crate::{AoOptions, AoParams, DepthConvention, NormalEncoding, Projection, Result, Viewport};
+
+crate::gpu_struct! {
+    /// Everything a pass needs to know about the frame. Built by [`FrameUniforms::new`].
+    pub struct FrameUniforms {
+        /// Top-left of the viewport in the input textures, pixels.
+        pub viewport_origin: [u32; 2],
+        /// Viewport (and output) size, pixels.
+        pub size: [u32; 2],
+        /// 1 / size.
+        pub inv_size: [f32; 2],
+        /// `view.xy = ndc.xy * ndc_to_view` (times linear depth for perspective).
+        pub ndc_to_view: [f32; 2],
+        /// Depth linearization `d = a*z + b`, or its reciprocal (see [`crate::Linearize`]).
+        pub lin_a: f32,
+        pub lin_b: f32,
+        /// 1 when `d = 1 / (a*z + b)`.
+        pub lin_reciprocal: u32,
+        /// [`crate::SkyTest::code`].
+        pub sky_test: u32,
+        /// 1 for perspective, 0 for orthographic.
+        pub perspective: u32,
+        /// 0: reconstruct normals from depth; 1: signed view-space input; 2: unorm input.
+        pub normals_mode: u32,
+        /// AO radius, view-space units, and 1 / radius².
+        pub radius: f32,
+        pub inv_radius2: f32,
+        /// Pixels covered by one view-space unit at linear depth 1 (perspective) or anywhere (ortho).
+        pub radius_to_px: f32,
+        /// Clamp of the on-screen radius, pixels.
+        pub max_radius_px: f32,
+        /// sin(tangent bias angle).
+        pub sin_bias: f32,
+        /// strength / (directions · (1 − sin_bias)): maps summed horizon occlusion to [0, 1].
+        pub ao_scale: f32,
+        /// Per-pixel sampling patterns, see [`crate::jitter`].
+        pub patterns: [[f32; 4]; PATTERN_COUNT],
+    }
+}
+
+impl FrameUniforms {
+    /// Validates the inputs and derives the uniform values. No GPU work.
+    pub fn new(
+        projection: &Projection,
+        convention: DepthConvention,
+        normals: Option<NormalEncoding>,
+        viewport: Viewport,
+        options: &AoOptions,
+        params: &AoParams,
+    ) -> Result<Self> {
+        options.validate()?;
+        params.validate()?;
+        let lin = projection.linearize(convention)?;
+        if viewport.width == 0 || viewport.height == 0 {
+            return Err(crate::Error::InvalidViewport(format!(
+                "{}x{} is empty",
+                viewport.width, viewport.height
+            )));
+        }
+        let scale = projection.ndc_to_view_scale();
+        let sin_bias = params.bias_angle_deg.to_radians().sin();
+        Ok(Self {
+            viewport_origin: [viewport.x, viewport.y],
+            size: [viewport.width, viewport.height],
+            inv_size: [1.0 / viewport.width as f32, 1.0 / viewport.height as f32],
+            ndc_to_view: scale,
+            lin_a: lin.a,
+            lin_b: lin.b,
+            lin_reciprocal: lin.reciprocal as u32,
+            sky_test: lin.sky.code(),
+            perspective: projection.is_perspective() as u32,
+            normals_mode: match normals {
+                None => 0,
+                Some(NormalEncoding::ViewSigned) => 1,
+                Some(NormalEncoding::ViewUnorm) => 2,
+            },
+            radius: params.radius,
+            inv_radius2: 1.0 / (params.radius * params.radius),
+            radius_to_px: viewport.height as f32 / (2.0 * scale[1]),
+            max_radius_px: params.max_radius_px,
+            sin_bias,
+            ao_scale: params.strength / (options.directions as f32 * (1.0 - sin_bias)),
+            patterns: pattern_table(options.directions),
+        })
+    }
+
+    /// The [`crate::Linearize`] these uniforms encode (for the CPU reference).
+    pub fn linearize(&self) -> crate::Linearize {
+        crate::Linearize {
+            a: self.lin_a,
+            b: self.lin_b,
+            reciprocal: self.lin_reciprocal != 0,
+            sky: match self.sky_test {
+                0 => crate::SkyTest::AtLeastOne,
+                1 => crate::SkyTest::AtMostZero,
+                _ => crate::SkyTest::NonPositive,
+            },
+        }
+    }
+
+    /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
+    /// Mirrors `view_position` in shaders/common.wgsl.
+    pub fn view_position(&self, p: [f32; 2], d: f32) -> glam::Vec3 {
+        let ndc = glam::Vec2::new(
+            p[0] * self.inv_size[0] * 2.0 - 1.0,
+            1.0 - p[1] * self.inv_size[1] * 2.0,
+        );
+        let mut xy = ndc * glam::Vec2::from(self.ndc_to_view);
+        if self.perspective != 0 {
+            xy *= d;
+        }
+        xy.extend(-d)
+    }
+}

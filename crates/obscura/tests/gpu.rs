@@ -1,0 +1,686 @@
+//! GPU tests on synthetic depth buffers: the GPU passes against the CPU reference, and
+//! analytic cases with known answers. Runs on lavapipe in CI; one device per binary.
+
+use glam::{Vec3, Vec4};
+use obscura::{
+    reference, Ao, AoInput, AoOptions, AoParams, DepthConvention, Error, GpuContext, Projection,
+    Viewport,
+};
+use std::sync::{Mutex, OnceLock};
+
+fn ctx() -> &'static GpuContext {
+    static CTX: OnceLock<GpuContext> = OnceLock::new();
+    CTX.get_or_init(|| {
+        GpuContext::new().unwrap_or_else(|e| {
+            panic!("these tests need a Vulkan adapter (lavapipe is enough): {e}")
+        })
+    })
+}
+
+/// The GPU is shared; tests take turns so error scopes and uniforms never interleave.
+fn lock() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: Mutex<()> = Mutex::new(());
+    LOCK.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+const W: u32 = 67;
+const H: u32 = 45;
+
+fn persp(w: u32, h: u32) -> Projection {
+    Projection::Perspective {
+        fov_y: 60f32.to_radians(),
+        aspect: w as f32 / h as f32,
+        near: 0.1,
+        far: 100.0,
+    }
+}
+
+fn upload_r32(data: &[f32], w: u32, h: u32) -> wgpu::Texture {
+    let c = ctx();
+    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test depth"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    c.queue.write_texture(
+        tex.as_image_copy(),
+        bytemuck::cast_slice(data),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w * 4),
+            rows_per_image: Some(h),
+        },
+        tex.size(),
+    );
+    tex
+}
+
+struct Run {
+    prepared: Vec<Vec4>,
+    ao: Vec<f32>,
+    frame: obscura::uniforms::FrameUniforms,
+}
+
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a test helper whose call sites read best with every input spelled out"
+)]
+fn run_ao(
+    raw: &[f32],
+    w: u32,
+    h: u32,
+    projection: Projection,
+    convention: DepthConvention,
+    viewport: Option<Viewport>,
+    options: AoOptions,
+    params: &AoParams,
+) -> Run {
+    let c = ctx();
+    let tex = upload_r32(raw, w, h);
+    let view = tex.create_view(&Default::default());
+    let mut ao = Ao::new(&c.device, options).unwrap();
+    let input = AoInput {
+        depth: &view,
+        convention,
+        projection,
+        normals: None,
+        viewport,
+    };
+    let frame = ao.validate(&input, params).unwrap();
+    c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, params))
+        .unwrap();
+    let prepared: Vec<f32> = c.read_f32(ao.prepared_view().unwrap().texture()).unwrap();
+    Run {
+        prepared: prepared
+            .chunks_exact(4)
+            .map(|p| Vec4::from_slice(p))
+            .collect(),
+        ao: c.read_f32(ao.output().unwrap()).unwrap(),
+        frame,
+    }
+}
+
+const MAX_DEPTH: f32 = 10.0;
+
+/// Linear depth of the first hit of the pixel-centre ray with any of `planes`
+/// (`(point, normal)`) and `spheres` (`(centre, radius)`), 0 when nothing is hit.
+fn ray_cast(
+    projection: &Projection,
+    w: u32,
+    h: u32,
+    planes: &[(Vec3, Vec3)],
+    spheres: &[(Vec3, f32)],
+) -> Vec<f32> {
+    let s = projection.ndc_to_view_scale();
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let ndc = [
+                (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+            ];
+            // Perspective: rays from the origin through (ndc*s, -1); orthographic: parallel.
+            let (o, d) = if projection.is_perspective() {
+                (Vec3::ZERO, Vec3::new(ndc[0] * s[0], ndc[1] * s[1], -1.0))
+            } else {
+                (Vec3::new(ndc[0] * s[0], ndc[1] * s[1], 0.0), Vec3::NEG_Z)
+            };
+            let mut best = f32::INFINITY;
+            for &(p, n) in planes {
+                let t = (p - o).dot(n) / d.dot(n);
+                if t > 0.0 {
+                    best = best.min(t);
+                }
+            }
+            for &(c, r) in spheres {
+                let oc = o - c;
+                let b = oc.dot(d);
+                let disc = b * b - d.dot(d) * (oc.dot(oc) - r * r);
+                if disc >= 0.0 {
+                    let t = (-b - disc.sqrt()) / d.dot(d);
+                    if t > 0.0 {
+                        best = best.min(t);
+                    }
+                }
+            }
+            // With d.z = -1, t is the linear depth for perspective; for ortho, too.
+            // Beyond MAX_DEPTH is sky.
+            let depth = -(o + d * best).z;
+            out.push(if depth.is_finite() && depth < MAX_DEPTH {
+                depth
+            } else {
+                0.0
+            });
+        }
+    }
+    out
+}
+
+/// A floor, a back wall and two spheres: creases, contact, silhouettes, sky.
+fn test_scene(projection: &Projection, w: u32, h: u32) -> Vec<f32> {
+    ray_cast(
+        projection,
+        w,
+        h,
+        &[
+            (Vec3::new(0.0, -1.0, 0.0), Vec3::Y),
+            (
+                Vec3::new(0.0, 0.0, -7.0),
+                Vec3::new(0.6, 0.6, 1.0).normalize(),
+            ),
+        ],
+        &[
+            (Vec3::new(-0.6, -0.4, -4.0), 0.6),
+            (Vec3::new(0.9, 0.0, -5.0), 0.5),
+        ],
+    )
+}
+
+fn encode(projection: &Projection, conv: DepthConvention, lin: &[f32]) -> Vec<f32> {
+    lin.iter()
+        .map(|&d| {
+            if d > 0.0 {
+                projection.encode_depth(conv, d)
+            } else {
+                match conv {
+                    DepthConvention::Standard => 1.0,
+                    DepthConvention::LinearView => 0.0,
+                    _ => 0.0,
+                }
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn prepare_matches_cpu_reference_for_every_convention() {
+    let _g = lock();
+    for projection in [
+        persp(W, H),
+        Projection::Orthographic {
+            half_width: 3.0 * W as f32 / H as f32,
+            half_height: 3.0,
+            near: 0.1,
+            far: 20.0,
+        },
+    ] {
+        let lin = test_scene(&projection, W, H);
+        assert!(lin.contains(&0.0), "the scene must include sky");
+        for conv in [
+            DepthConvention::Standard,
+            DepthConvention::ReversedZ,
+            DepthConvention::ReversedZInfinite,
+            DepthConvention::LinearView,
+        ] {
+            if conv == DepthConvention::ReversedZInfinite && !projection.is_perspective() {
+                continue;
+            }
+            let raw = encode(&projection, conv, &lin);
+            let r = run_ao(
+                &raw,
+                W,
+                H,
+                projection,
+                conv,
+                None,
+                AoOptions::default(),
+                &AoParams::default(),
+            );
+            let cpu = reference::prepare(&r.frame, &raw, W);
+            for (i, (g, c)) in r.prepared.iter().zip(&cpu).enumerate() {
+                // Tolerance: depth 1e-5 relative (f32 reciprocal of a reconstructed z);
+                // normals 2e-3 per component (GPU FMA and inverseSqrt vs CPU).
+                let rel = (g.x - c.x).abs() / c.x.max(1e-6);
+                assert!(
+                    rel < 1e-5 || (g.x == 0.0 && c.x == 0.0),
+                    "{conv:?} px {i}: depth {} vs {}",
+                    g.x,
+                    c.x
+                );
+                assert!(
+                    (g.yzw() - c.yzw()).abs().max_element() < 2e-3,
+                    "{conv:?} px {i}: {g} vs {c}"
+                );
+                // The prepared depth equals the analytic depth, whatever the convention.
+                let truth = lin[i];
+                assert!(
+                    (g.x - truth).abs() <= 2e-4 * truth.max(1.0),
+                    "{conv:?} px {i}: {} vs truth {truth}",
+                    g.x
+                );
+            }
+        }
+    }
+}
+
+trait Yzw {
+    fn yzw(&self) -> Vec3;
+}
+impl Yzw for Vec4 {
+    fn yzw(&self) -> Vec3 {
+        Vec3::new(self.y, self.z, self.w)
+    }
+}
+
+/// Compares GPU AO with the CPU reference run on the GPU's own prepared buffer.
+fn assert_hbao_matches(r: &Run, options: AoOptions, what: &str) {
+    let cpu = reference::hbao(&r.frame, options.directions, options.steps, &r.prepared);
+    let diffs: Vec<f32> = r.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
+    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+    let max = diffs.iter().cloned().fold(0.0, f32::max);
+    // Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1. A sample position that
+    // lands within float error of a pixel boundary may round to the neighbour on one side.
+    assert!(
+        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
+        "{what}: {close}/{} within 2e-3, max diff {max}",
+        diffs.len()
+    );
+}
+
+#[test]
+fn hbao_matches_cpu_reference() {
+    let _g = lock();
+    let options = AoOptions {
+        directions: 6,
+        steps: 5,
+    };
+    let params = AoParams {
+        radius: 1.5,
+        ..Default::default()
+    };
+    let p = persp(W, H);
+    let raw = test_scene(&p, W, H);
+    let r = run_ao(
+        &raw,
+        W,
+        H,
+        p,
+        DepthConvention::LinearView,
+        None,
+        options,
+        &params,
+    );
+    assert_hbao_matches(&r, options, "perspective");
+    assert!(r.ao.iter().any(|&a| a < 0.8), "the scene has occlusion");
+
+    let o = Projection::Orthographic {
+        half_width: 4.0 * W as f32 / H as f32,
+        half_height: 4.0,
+        near: 0.1,
+        far: 20.0,
+    };
+    let raw = test_scene(&o, W, H);
+    let r = run_ao(
+        &raw,
+        W,
+        H,
+        o,
+        DepthConvention::LinearView,
+        None,
+        options,
+        &params,
+    );
+    assert_hbao_matches(&r, options, "orthographic");
+}
+
+#[test]
+fn viewport_selects_a_region_without_shifting_it() {
+    let _g = lock();
+    let (bw, bh) = (W + 9, H + 6);
+    let vp = Viewport {
+        x: 5,
+        y: 4,
+        width: W,
+        height: H,
+    };
+    let p = persp(W, H);
+    let inner = test_scene(&p, W, H);
+    let mut big = vec![3.0f32; (bw * bh) as usize];
+    for y in 0..H {
+        for x in 0..W {
+            big[((y + vp.y) * bw + x + vp.x) as usize] = inner[(y * W + x) as usize];
+        }
+    }
+    let params = AoParams {
+        radius: 1.5,
+        ..Default::default()
+    };
+    let a = run_ao(
+        &inner,
+        W,
+        H,
+        p,
+        DepthConvention::LinearView,
+        None,
+        AoOptions::default(),
+        &params,
+    );
+    let b = run_ao(
+        &big,
+        bw,
+        bh,
+        p,
+        DepthConvention::LinearView,
+        Some(vp),
+        AoOptions::default(),
+        &params,
+    );
+    assert_eq!(a.ao, b.ao);
+}
+
+#[test]
+fn planes_facing_or_tilted_are_unoccluded() {
+    let _g = lock();
+    let (w, h) = (96, 64);
+    let p = persp(w, h);
+    let params = AoParams {
+        radius: 2.0,
+        ..Default::default()
+    };
+    // Facing the camera, and tilted 60° about the x and the y axes.
+    for (name, normal) in [
+        ("facing", Vec3::Z),
+        (
+            "tilted 60° about x",
+            Vec3::new(0.0, 60f32.to_radians().sin(), 60f32.to_radians().cos()),
+        ),
+        (
+            "tilted 60° about y",
+            Vec3::new(60f32.to_radians().sin(), 0.0, 60f32.to_radians().cos()),
+        ),
+    ] {
+        let raw = ray_cast(&p, w, h, &[(Vec3::new(0.0, 0.0, -5.0), normal)], &[]);
+        let r = run_ao(
+            &raw,
+            w,
+            h,
+            p,
+            DepthConvention::LinearView,
+            None,
+            AoOptions::default(),
+            &params,
+        );
+        let min = r.ao.iter().cloned().fold(1.0, f32::min);
+        assert!(min > 0.999, "{name}: min AO {min}");
+    }
+}
+
+#[test]
+fn crease_darkens_monotonically_toward_the_corner() {
+    let _g = lock();
+    let (w, h) = (128, 128);
+    let p = persp(w, h);
+    // Two walls at 45° to the view axis meet in a vertical 90° concave crease at
+    // x = 0, z = -6 (the centre column): the visible surface is z = -6 + |x|.
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let corner = Vec3::new(0.0, 0.0, -6.0);
+    let raw = ray_cast(
+        &p,
+        w,
+        h,
+        &[
+            (corner, Vec3::new(s, 0.0, s)),
+            (corner, Vec3::new(-s, 0.0, s)),
+        ],
+        &[],
+    );
+    let params = AoParams {
+        radius: 1.0,
+        ..Default::default()
+    };
+    let r = run_ao(
+        &raw,
+        w,
+        h,
+        p,
+        DepthConvention::LinearView,
+        None,
+        AoOptions {
+            directions: 8,
+            steps: 6,
+        },
+        &params,
+    );
+    // Mean AO per 4-column block (one whole pattern tile) over the central rows.
+    let block = |x0: u32| -> f32 {
+        let mut s = 0.0;
+        for y in h / 4..3 * h / 4 {
+            for x in x0..x0 + 4 {
+                s += r.ao[(y * w + x) as usize];
+            }
+        }
+        s / (4 * h / 2) as f32
+    };
+    let c = w / 2;
+    // Walking away from the corner on each side.
+    let left: Vec<f32> = (1..9).map(|k| block(c - 4 * k)).collect();
+    let right: Vec<f32> = (0..8).map(|k| block(c + 4 * k)).collect();
+    for side in [&left, &right] {
+        for pair in side.windows(2) {
+            // Nearer the corner must be darker (or equal within 0.005 of averaging noise).
+            assert!(pair[0] <= pair[1] + 0.005, "not monotonic: {side:?}");
+        }
+        assert!(
+            side[0] < side[side.len() - 1] - 0.1,
+            "corner not darker: {side:?}"
+        );
+    }
+}
+
+#[test]
+fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
+    let _g = lock();
+    let (w, h) = (64, 48);
+    let p = persp(w, h);
+    // Rough terrain of random depths, with NaN, inf, negative and zero pixels.
+    let mut state = 12345u32;
+    let mut rnd = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as f32 / u32::MAX as f32
+    };
+    let raw: Vec<f32> = (0..w * h)
+        .map(|i| match i % 97 {
+            0 => f32::NAN,
+            1 => f32::INFINITY,
+            2 => -3.0,
+            3 => 0.0,
+            _ => 1.0 + 9.0 * rnd(),
+        })
+        .collect();
+    let params = AoParams {
+        radius: 3.0,
+        strength: 4.0,
+        ..Default::default()
+    };
+    let r = run_ao(
+        &raw,
+        w,
+        h,
+        p,
+        DepthConvention::LinearView,
+        None,
+        AoOptions::default(),
+        &params,
+    );
+    assert!(
+        r.ao.iter().all(|a| (0.0..=1.0).contains(a)),
+        "AO outside [0, 1]"
+    );
+    assert!(
+        r.ao.iter().any(|&a| a < 0.5),
+        "rough terrain should be occluded somewhere"
+    );
+    for (i, v) in raw.iter().enumerate() {
+        if !(v.is_finite() && *v > 0.0) {
+            assert_eq!(r.prepared[i].x, 0.0, "invalid depth {v} must become sky");
+            assert_eq!(r.ao[i], 1.0);
+        }
+    }
+    // A plane with holes of invalid depth is as unoccluded as one without.
+    let mut plane = vec![4.0f32; (w * h) as usize];
+    for (i, d) in plane.iter_mut().enumerate() {
+        if i % 13 == 0 {
+            *d = [f32::NAN, f32::NEG_INFINITY, -1.0, 0.0][i % 4];
+        }
+    }
+    let r = run_ao(
+        &plane,
+        w,
+        h,
+        p,
+        DepthConvention::LinearView,
+        None,
+        AoOptions::default(),
+        &params,
+    );
+    let worst =
+        r.ao.iter()
+            .enumerate()
+            .fold((0, 1.0f32), |m, (i, &a)| if a < m.1 { (i, a) } else { m });
+    assert!(
+        worst.1 > 0.999,
+        "invalid depth acted as an occluder: {worst:?} {:?}",
+        r.prepared[worst.0]
+    );
+}
+
+#[test]
+fn depth_at_far_plane_is_all_sky() {
+    let _g = lock();
+    let raw = vec![1.0f32; (W * H) as usize];
+    let r = run_ao(
+        &raw,
+        W,
+        H,
+        persp(W, H),
+        DepthConvention::Standard,
+        None,
+        AoOptions::default(),
+        &AoParams::default(),
+    );
+    assert!(r.ao.iter().all(|&a| a == 1.0));
+    assert!(r.prepared.iter().all(|p| p.x == 0.0));
+}
+
+#[test]
+fn bad_inputs_are_typed_errors_before_gpu_work() {
+    let _g = lock();
+    let c = ctx();
+    let tex = upload_r32(&vec![2.0; (W * H) as usize], W, H);
+    let view = tex.create_view(&Default::default());
+    let ao = Ao::new(&c.device, AoOptions::default()).unwrap();
+    let good = AoInput {
+        depth: &view,
+        convention: DepthConvention::LinearView,
+        projection: persp(W, H),
+        normals: None,
+        viewport: None,
+    };
+    let p = AoParams::default();
+    ao.validate(&good, &p).unwrap();
+    let outside = AoInput {
+        viewport: Some(Viewport {
+            x: 10,
+            y: 0,
+            width: W,
+            height: H,
+        }),
+        ..good
+    };
+    assert!(matches!(
+        ao.validate(&outside, &p),
+        Err(Error::InvalidViewport(_))
+    ));
+    let empty = AoInput {
+        viewport: Some(Viewport {
+            x: 0,
+            y: 0,
+            width: 0,
+            height: 5,
+        }),
+        ..good
+    };
+    assert!(matches!(
+        ao.validate(&empty, &p),
+        Err(Error::InvalidViewport(_))
+    ));
+    let nan = AoInput {
+        projection: Projection::Perspective {
+            fov_y: f32::NAN,
+            aspect: 1.0,
+            near: 0.1,
+            far: 10.0,
+        },
+        ..good
+    };
+    assert!(matches!(
+        ao.validate(&nan, &p),
+        Err(Error::InvalidProjection(_))
+    ));
+    let bad_params = AoParams { radius: -1.0, ..p };
+    assert!(matches!(
+        ao.validate(&good, &bad_params),
+        Err(Error::InvalidSetting {
+            field: "radius",
+            ..
+        })
+    ));
+    assert!(matches!(
+        Ao::new(
+            &c.device,
+            AoOptions {
+                directions: 0,
+                steps: 4
+            }
+        ),
+        Err(Error::InvalidSetting {
+            field: "directions",
+            ..
+        })
+    ));
+    // A colour texture as depth, and normals of another size.
+    let rgba = c.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: 8,
+            height: 8,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let rgba_view = rgba.create_view(&Default::default());
+    let wrong_format = AoInput {
+        depth: &rgba_view,
+        ..good
+    };
+    assert!(matches!(
+        ao.validate(&wrong_format, &p),
+        Err(Error::UnsupportedFormat { .. })
+    ));
+    let wrong_normals = AoInput {
+        normals: Some((&rgba_view, obscura::NormalEncoding::ViewUnorm)),
+        ..good
+    };
+    assert!(matches!(
+        ao.validate(&wrong_normals, &p),
+        Err(Error::InvalidViewport(_))
+    ));
+    // Nothing above reached the GPU, so nothing was reported there either.
+    c.take_errors().unwrap();
+}
