@@ -53,9 +53,10 @@ pub struct RenderArgs {
     /// Height of the orthographic view volume in scene units. Default: fits the scene.
     #[arg(long)]
     pub ortho_height: Option<f32>,
-    /// Near and far clip planes in scene units. Default: fitted to the scene bounds.
+    /// Near clip plane in scene units. Default: 1/10000 of the far plane.
     #[arg(long)]
     pub near: Option<f32>,
+    /// Far clip plane in scene units. Default: just beyond the farthest scene corner.
     #[arg(long)]
     pub far: Option<f32>,
     /// Image width in pixels.

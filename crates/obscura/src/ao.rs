@@ -119,6 +119,35 @@ fn pipeline(
     (pipeline, layout)
 }
 
+/// Every pass binds the frame uniforms at 0 and its texture views at 1, 2, ...
+fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &wgpu::Buffer,
+    views: &[&wgpu::TextureView],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = std::iter::once(wgpu::BindGroupEntry {
+        binding: 0,
+        resource: uniforms.as_entire_binding(),
+    })
+    .chain(
+        views
+            .iter()
+            .zip(1..)
+            .map(|(v, binding)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(v),
+            }),
+    )
+    .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 /// Whether a depth input binds as a depth texture (`true`) or a float texture (`false`).
 fn depth_binding_kind(format: wgpu::TextureFormat) -> Result<bool> {
     use wgpu::TextureFormat as F;
@@ -331,24 +360,13 @@ impl Ao {
         );
         let prepared_view = prepared.create_view(&Default::default());
         let output_view = output.create_view(&Default::default());
-        let hbao_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hbao"),
-            layout: &self.hbao.1,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&prepared_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&output_view),
-                },
-            ],
-        });
+        let hbao_bind = bind_group(
+            device,
+            "hbao",
+            &self.hbao.1,
+            &self.uniforms,
+            &[&prepared_view, &output_view],
+        );
         self.sized = Some(SizedResources {
             size,
             prepared_view,
@@ -382,28 +400,13 @@ impl Ao {
         } else {
             &self.prepare_float
         };
-        let prepare_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("prepare"),
-            layout: prep_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(input.depth),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(normals),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&sized.prepared_view),
-                },
-            ],
-        });
+        let prepare_bind = bind_group(
+            device,
+            "prepare",
+            prep_layout,
+            &self.uniforms,
+            &[input.depth, normals, &sized.prepared_view],
+        );
         let (gx, gy) = dispatch_size(frame.size);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("obscura"),
