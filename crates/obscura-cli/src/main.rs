@@ -1,5 +1,6 @@
 //! `obscura`: screen-space ambient occlusion from the command line.
 
+mod bench;
 mod output;
 mod render;
 
@@ -19,6 +20,9 @@ struct Cli {
 enum Command {
     /// Render a scene's G-buffer and compute its ambient occlusion, written as PNG.
     Render(render::RenderArgs),
+    /// Time the AO pass layouts (randomized, deinterleaved 2×2 and 4×4, fused or not)
+    /// against each other over radius and resolution, on the built-in scene.
+    Bench(bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +35,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,9 @@ use crate::output::{check_png_path, save_png};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding};
+use obscura::{
+    layout, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+};
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -13,6 +15,27 @@ use std::time::Instant;
 pub enum ProjectionKind {
     Perspective,
     Orthographic,
+}
+
+/// The AO pass layout (see `obscura::AoMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// One full-resolution pass, per-pixel patterns from a 4×4 table.
+    Randomized,
+    /// 2×2 deinterleaved layers, one pattern per layer.
+    Deinterleaved2,
+    /// 4×4 deinterleaved layers, one pattern per layer.
+    Deinterleaved4,
+}
+
+impl From<ModeArg> for AoMode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Randomized => AoMode::Randomized,
+            ModeArg::Deinterleaved2 => AoMode::Deinterleaved2,
+            ModeArg::Deinterleaved4 => AoMode::Deinterleaved4,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -74,6 +97,13 @@ pub struct RenderArgs {
     /// Steps per direction (1..=32).
     #[arg(long, default_value_t = AoOptions::default().steps)]
     pub steps: u32,
+    /// AO pass layout: deinterleaved modes split the image into N×N layers (seed 000).
+    #[arg(long, value_enum, default_value_t = ModeArg::Deinterleaved4)]
+    pub mode: ModeArg,
+    /// Deinterleaved modes: run the split and merge as separate full-resolution passes
+    /// instead of fusing them into the prepare and AO passes (for measurement).
+    #[arg(long)]
+    pub unfused: bool,
     /// Tangent bias angle in degrees (0..60).
     #[arg(long, default_value_t = AoParams::default().bias_angle_deg)]
     pub bias: f32,
@@ -128,11 +158,7 @@ fn check_args(a: &RenderArgs) -> Result<()> {
     for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
         check_png_path(p)?;
     }
-    let options = AoOptions {
-        directions: a.directions,
-        steps: a.steps,
-    };
-    options.validate()?;
+    options(a).validate()?;
     params(a, 1.0).validate()?;
     if let Some(r) = a.radius {
         if !(r.is_finite() && r > 0.0) {
@@ -140,6 +166,15 @@ fn check_args(a: &RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+fn options(a: &RenderArgs) -> AoOptions {
+    AoOptions {
+        directions: a.directions,
+        steps: a.steps,
+        mode: a.mode.into(),
+        fused: !a.unfused,
+    }
 }
 
 fn params(a: &RenderArgs, radius: f32) -> AoParams {
@@ -249,10 +284,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         t.elapsed().as_secs_f64() * 1e3
     );
 
-    let options = AoOptions {
-        directions: a.directions,
-        steps: a.steps,
-    };
+    let options = options(a);
     let params = params(a, radius);
     let mut ao = Ao::new(&ctx.device, options)?;
     let input = AoInput {
@@ -267,10 +299,12 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     };
     ao.validate(&input, &params)?;
     eprintln!(
-        "ao: HBAO {} directions x {} steps ({} samples/pixel), radius {radius:.3} scene units",
+        "ao: HBAO {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
         options.directions,
         options.steps,
-        options.samples_per_pixel()
+        options.samples_per_pixel(),
+        options.mode.name(),
+        if options.fused { "" } else { " (unfused)" },
     );
     let mut times = Vec::new();
     for i in 0..=a.runs {
@@ -305,8 +339,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     eprintln!("wrote {}", a.out.display());
 
     if a.depth_out.is_some() || a.normals_out.is_some() {
-        let view = ao.prepared_view().context("prepared buffer missing")?;
-        let prepared = ctx.read_f32(view.texture())?;
+        let prepared = read_prepared(&ctx, &ao, a.width, a.height)?;
         if let Some(path) = &a.depth_out {
             save_png(
                 path,
@@ -343,6 +376,30 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     }
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// The prepared `vec4(depth, normal)` buffer at full resolution: read directly, or
+/// re-interleaved on the CPU from the deinterleaved layers (fused modes keep no full copy).
+fn read_prepared(ctx: &GpuContext, ao: &Ao, w: u32, h: u32) -> Result<Vec<f32>> {
+    if let Some(view) = ao.prepared_view() {
+        return Ok(ctx.read_f32(view.texture())?);
+    }
+    let view = ao
+        .prepared_layers_view()
+        .context("prepared buffer missing")?;
+    let layers = ctx.read_f32(view.texture())?;
+    let n = ao.options().mode.split();
+    let (lw, lh) = layout::layer_size(w, h, n);
+    let mut out = vec![0.0; (w * h * 4) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let (tx, ty) = layout::layer_texel(x, y, n);
+            let src = (((layout::layer_of(x, y, n) * lh + ty) * lw + tx) * 4) as usize;
+            let dst = ((y * w + x) * 4) as usize;
+            out[dst..dst + 4].copy_from_slice(&layers[src..src + 4]);
+        }
+    }
+    Ok(out)
 }
 
 /// Log-scaled linear depth: nearest surface white, farthest dark grey, sky black.

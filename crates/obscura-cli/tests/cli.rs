@@ -177,3 +177,53 @@ fn help_documents_every_option() {
     }
     assert!(String::from_utf8_lossy(&obscura(&["--help"]).stdout).contains("OBSCURA_ADAPTER"));
 }
+
+#[test]
+fn bench_writes_table_json_and_plot() {
+    let d = scratch("bench");
+    let (json, plot) = (d.join("b.json"), d.join("b.svg"));
+    let out = obscura(&[
+        "bench",
+        "--resolutions",
+        "64x36,67x45",
+        "--radii",
+        "4,16",
+        "--runs",
+        "1",
+        "--json",
+        s(&json),
+        "--plot",
+        s(&plot),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("[4/4]"), "progress per cell: {err}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("| 67×45 | 16 |"), "{table}");
+    let j = std::fs::read_to_string(&json).unwrap();
+    // 5 variants × 2 resolutions × 2 radii, the randomized pass being the unit of ratio.
+    assert_eq!(j.matches("\"variant\"").count(), 20, "{j}");
+    assert_eq!(j.matches("\"variant\": \"randomized\"").count(), 4);
+    assert!(j.matches("\"ratio_to_randomized\": 1.0000").count() >= 4);
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert_eq!(svg.matches("<polyline").count(), 10);
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn bench_rejects_bad_lists() {
+    for args in [
+        &["bench", "--radii", "0"][..],
+        &["bench", "--radii", "a,b"][..],
+        &["bench", "--resolutions", "640"][..],
+        &["bench", "--resolutions", "0x10"][..],
+        &["bench", "--plot", "/no/such/dir/p.svg"][..],
+    ] {
+        let out = obscura(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.starts_with("error:") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -2,7 +2,9 @@
 //! has real occlusion; bad scene files give typed errors. Needs `../shared/scenes`
 //! beside the repository (as on every developer machine and in CI) and fails without it.
 
-use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding};
+use obscura::{
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+};
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh, SceneError};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -33,13 +35,24 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// Renders `mesh` and computes AO; returns (depth, ao) read back.
+/// Renders `mesh` and computes AO in the default mode; returns (depth, ao) read back.
 fn render(mesh: &Mesh, cam: &Camera, w: u32, h: u32, radius: f32) -> (Vec<f32>, Vec<f32>) {
+    render_with(mesh, cam, w, h, radius, AoOptions::default())
+}
+
+fn render_with(
+    mesh: &Mesh,
+    cam: &Camera,
+    w: u32,
+    h: u32,
+    radius: f32,
+    options: AoOptions,
+) -> (Vec<f32>, Vec<f32>) {
     let c = ctx();
     let raster = GBufferRenderer::new(&c.device);
     let gm = raster.upload(c, mesh).unwrap();
     let g = raster.render(c, &gm, cam, w, h).unwrap();
-    let mut ao = Ao::new(&c.device, AoOptions::default()).unwrap();
+    let mut ao = Ao::new(&c.device, options).unwrap();
     let input = AoInput {
         depth: &g.depth_view,
         convention: DepthConvention::Standard,
@@ -104,7 +117,7 @@ fn every_shared_mesh_loads_and_renders() {
 fn default_scene_has_real_occlusion() {
     let _g = lock();
     let mesh = default_scene::mesh();
-    let (depth, ao) = render(&mesh, &default_scene::camera(), 160, 90, 1.0);
+    let (depth, ao) = render(&mesh, &default_scene::camera(), 320, 180, 1.0);
     assert!(depth.contains(&1.0), "some sky is visible");
     let n = ao.len() as f32;
     let mean = ao.iter().sum::<f32>() / n;
@@ -124,7 +137,7 @@ fn orthographic_camera_renders_and_matches_obscura_projection() {
     let mesh = default_scene::mesh();
     let mut cam = default_scene::camera();
     cam.projection = CameraProjection::Orthographic { height: 12.0 };
-    let (depth, ao) = render(&mesh, &cam, 96, 64, 1.0);
+    let (depth, ao) = render(&mesh, &cam, 192, 128, 1.0);
     assert!(depth.iter().filter(|&&d| d < 1.0).count() > 1000);
     assert!(ao.iter().any(|&a| a < 0.8));
 }
@@ -160,4 +173,40 @@ fn bad_scene_files_are_typed_errors() {
     std::fs::write(&empty, "# nothing\n").unwrap();
     assert!(matches!(Mesh::load(&empty), Err(SceneError::Empty(_))));
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn deinterleaved_ao_matches_randomized_on_the_default_scene() {
+    // The speed-up must not come from doing different work: the same estimator with the
+    // same patterns, only with offsets snapped to the N-pixel lattice.
+    let _g = lock();
+    let mesh = default_scene::mesh();
+    let cam = default_scene::camera();
+    let (w, h) = (640, 360);
+    let run = |mode| {
+        let o = AoOptions {
+            mode,
+            ..Default::default()
+        };
+        render_with(&mesh, &cam, w, h, 1.0, o).1
+    };
+    let base = run(AoMode::Randomized);
+    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+        let ao = run(mode);
+        let n = ao.len() as f32;
+        let bias = ao.iter().zip(&base).map(|(a, b)| a - b).sum::<f32>() / n;
+        let rmse = (ao
+            .iter()
+            .zip(&base)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f32>()
+            / n)
+            .sqrt();
+        eprintln!("{mode:?}: RMSE {rmse:.4}, bias {bias:.4} against randomized");
+        // Stated tolerance: RMSE <= 0.03 and |mean bias| <= 0.005 (AO units, [0, 1]).
+        assert!(
+            rmse <= 0.03 && bias.abs() <= 0.005,
+            "{mode:?}: RMSE {rmse}, bias {bias}"
+        );
+    }
 }

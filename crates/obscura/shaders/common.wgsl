@@ -38,3 +38,8 @@ fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
     }
     return vec3<f32>(xy, -d);
 }
+
+// Deinterleaved layer of full-resolution pixel `p` for an n x n split (src/layout.rs).
+fn layer_of(p: vec2<u32>, n: u32) -> u32 {
+    return p.x % n + n * (p.y % n);
+}

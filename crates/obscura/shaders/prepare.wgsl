@@ -1,11 +1,11 @@
 // Prepare pass: raw depth -> linear view depth, plus a view-space normal (decoded from the
 // caller's normal texture, or reconstructed from depth), packed as vec4(d, n.xyz).
-// Sky / missing depth is stored as d = 0. Preceded by a depth_input_*.wgsl that declares
-// @binding(1) and `load_raw_depth`.
+// Sky / missing depth is stored as d = 0. Composed with a depth_input_*.wgsl (declares
+// @binding(1) and `load_raw_depth`) and a prepare_store_*.wgsl (declares @binding(3) and
+// `store_prepared`: full resolution, or straight into deinterleaved layers).
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(2) var normals_in: texture_2d<f32>;
-@group(0) @binding(3) var prepared: texture_storage_2d<rgba32float, write>;
 
 // Linear depth of viewport-local pixel `p`; 0 outside the viewport.
 fn linear_depth_at(p: vec2<i32>) -> f32 {
@@ -66,7 +66,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     let d = linear_depth_at(p);
     if d <= 0.0 {
-        textureStore(prepared, p, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+        store_prepared(gid.xy, vec4<f32>(0.0, 0.0, 0.0, 1.0));
         return;
     }
     let c = view_position(vec2<f32>(p) + 0.5, d);
@@ -76,5 +76,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     } else {
         n = provided_normal(p);
     }
-    textureStore(prepared, p, vec4<f32>(d, n));
+    store_prepared(gid.xy, vec4<f32>(d, n));
 }

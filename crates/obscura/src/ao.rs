@@ -1,8 +1,15 @@
 //! [`Ao`]: the AO pipeline object. Creation compiles the passes for an [`AoOptions`];
 //! each frame, [`Ao::record`] validates the inputs, writes one small uniform buffer and
-//! records `prepare → hbao` into the caller's command encoder.
+//! records the passes into the caller's command encoder:
+//!
+//! ```text
+//! randomized:           prepare ─▶ hbao (full resolution, 4×4 per-pixel patterns)
+//! deinterleaved, fused: prepare_split (writes N×N layers) ─▶ hbao_layers_merge (writes full res)
+//! deinterleaved:        prepare ─▶ deinterleave ─▶ hbao_layers ─▶ interleave
+//! ```
 
-use crate::shader::{dispatch_size, Pass, AO_FORMAT, PREPARED_FORMAT};
+use crate::layout::layer_size;
+use crate::shader::{dispatch_size, DepthBinding, Pass, AO_FORMAT, PREPARED_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{
     AoOptions, AoParams, DepthConvention, Error, NormalEncoding, Projection, Result, Viewport,
@@ -26,49 +33,75 @@ pub struct AoInput<'a> {
     pub viewport: Option<Viewport>,
 }
 
+/// Textures and bind groups that depend on the viewport size. Declared in one place:
+/// name, size rule, format, layers.
 #[derive(Debug)]
 struct SizedResources {
     size: [u32; 2],
-    prepared_view: wgpu::TextureView,
+    /// `prepared`: full size, PREPARED_FORMAT (randomized, or unfused deinterleaved).
+    prepared: Option<wgpu::TextureView>,
+    /// `prepared_layers`: layer size × N² layers, PREPARED_FORMAT (deinterleaved).
+    prepared_layers: Option<wgpu::TextureView>,
+    // `ao_layers` (layer size × N² layers, AO_FORMAT, unfused deinterleaved only) lives
+    // in the bind groups of `later`.
+    /// `output`: full size, AO_FORMAT.
     output: wgpu::Texture,
     output_view: wgpu::TextureView,
-    hbao_bind: wgpu::BindGroup,
+    /// Bind groups of every pass after prepare, in order, with their dispatch sizes.
+    later: Vec<(usize, wgpu::BindGroup, [u32; 3])>,
+}
+
+/// A compiled pass: pipeline and the layout of its bind group.
+#[derive(Debug)]
+struct Compiled {
+    pass: Pass,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
 }
 
 /// The AO pipeline. Create once; call [`Ao::record`] per frame.
 #[derive(Debug)]
 pub struct Ao {
     options: AoOptions,
-    prepare_depth: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
-    prepare_float: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
-    hbao: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    /// Prepare for depth-format and float inputs.
+    prepare: [Compiled; 2],
+    /// The passes after prepare, in execution order.
+    later: Vec<Compiled>,
     uniforms: wgpu::Buffer,
     dummy_normals: wgpu::TextureView,
     max_dim: u32,
     sized: Option<SizedResources>,
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Texture {
             sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
+            view_dimension,
             multisampled: false,
         },
         count: None,
     }
 }
 
-fn storage_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+fn storage_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::StorageTexture {
             access: wgpu::StorageTextureAccess::WriteOnly,
             format,
-            view_dimension: wgpu::TextureViewDimension::D2,
+            view_dimension,
         },
         count: None,
     }
@@ -86,16 +119,52 @@ const UNIFORM_ENTRY: wgpu::BindGroupLayoutEntry = wgpu::BindGroupLayoutEntry {
 };
 
 const UNFILTERED: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
+const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
+const D2_ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
 
-fn pipeline(
-    device: &wgpu::Device,
-    pass: Pass,
-    entries: &[wgpu::BindGroupLayoutEntry],
-    constants: &[(&str, f64)],
-) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+/// The bind group layout of `pass`: uniforms at 0, then its textures.
+fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
+    let rest = match pass {
+        Pass::Prepare { depth, layers } => vec![
+            texture_entry(
+                1,
+                match depth {
+                    DepthBinding::Depth => wgpu::TextureSampleType::Depth,
+                    DepthBinding::Float => UNFILTERED,
+                },
+                D2,
+            ),
+            texture_entry(2, UNFILTERED, D2),
+            storage_entry(3, PREPARED_FORMAT, dim(layers)),
+        ],
+        Pass::AoFull => vec![
+            texture_entry(1, UNFILTERED, D2),
+            storage_entry(2, AO_FORMAT, D2),
+        ],
+        Pass::AoLayered { merge } => vec![
+            texture_entry(1, UNFILTERED, D2_ARRAY),
+            storage_entry(2, AO_FORMAT, dim(!merge)),
+        ],
+        // The split reuses the prepare store fragment (binding 3); 2 is unused.
+        Pass::Deinterleave => vec![
+            texture_entry(1, UNFILTERED, D2),
+            storage_entry(3, PREPARED_FORMAT, D2_ARRAY),
+        ],
+        Pass::Interleave => vec![
+            texture_entry(1, UNFILTERED, D2_ARRAY),
+            storage_entry(2, AO_FORMAT, D2),
+        ],
+    };
+    std::iter::once(UNIFORM_ENTRY).chain(rest).collect()
+}
+
+fn compile(device: &wgpu::Device, pass: Pass, options: &AoOptions) -> Compiled {
     let label = Some(pass.label());
-    let layout =
-        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label, entries });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label,
+        entries: &layout_entries(pass),
+    });
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label,
         source: wgpu::ShaderSource::Wgsl(pass.source().into()),
@@ -105,57 +174,58 @@ fn pipeline(
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
+    let constants = pass.constants(options);
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label,
         layout: Some(&pipeline_layout),
         module: &module,
         entry_point: Some("main"),
         compilation_options: wgpu::PipelineCompilationOptions {
-            constants,
+            constants: &constants,
             ..Default::default()
         },
         cache: None,
     });
-    (pipeline, layout)
+    Compiled {
+        pass,
+        pipeline,
+        layout,
+    }
 }
 
-/// Every pass binds the frame uniforms at 0 and its texture views at 1, 2, ...
+/// Binds the frame uniforms at 0 and `views` at the given binding numbers.
 fn bind_group(
     device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
+    c: &Compiled,
     uniforms: &wgpu::Buffer,
-    views: &[&wgpu::TextureView],
+    views: &[(u32, &wgpu::TextureView)],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = std::iter::once(wgpu::BindGroupEntry {
         binding: 0,
         resource: uniforms.as_entire_binding(),
     })
-    .chain(
-        views
-            .iter()
-            .zip(1..)
-            .map(|(v, binding)| wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(v),
-            }),
-    )
+    .chain(views.iter().map(|&(binding, v)| wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(v),
+    }))
     .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
+        label: Some(c.pass.label()),
+        layout: &c.layout,
         entries: &entries,
     })
 }
 
-/// Whether a depth input binds as a depth texture (`true`) or a float texture (`false`).
-fn depth_binding_kind(format: wgpu::TextureFormat) -> Result<bool> {
+/// How a depth input binds.
+fn depth_binding(format: wgpu::TextureFormat) -> Result<DepthBinding> {
     use wgpu::TextureFormat as F;
     match format {
-        F::Depth32Float | F::Depth24Plus | F::Depth16Unorm | F::Depth24PlusStencil8 | F::Depth32FloatStencil8 => {
-            Ok(true)
-        }
-        F::R32Float | F::R16Float => Ok(false),
+        F::Depth32Float
+        | F::Depth24Plus
+        | F::Depth16Unorm
+        | F::Depth24PlusStencil8
+        | F::Depth32FloatStencil8 => Ok(DepthBinding::Depth),
+        F::R32Float | F::R16Float => Ok(DepthBinding::Float),
         _ => Err(Error::UnsupportedFormat {
             what: "depth",
             format,
@@ -164,44 +234,68 @@ fn depth_binding_kind(format: wgpu::TextureFormat) -> Result<bool> {
     }
 }
 
+fn make_texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    layers: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+fn array_view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(D2_ARRAY),
+        ..Default::default()
+    })
+}
+
 impl Ao {
     /// Validates `options` and compiles every pipeline they need.
     pub fn new(device: &wgpu::Device, options: AoOptions) -> Result<Self> {
         options.validate()?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let prepare_entries = |depth: wgpu::TextureSampleType| {
-            [
-                UNIFORM_ENTRY,
-                texture_entry(1, depth),
-                texture_entry(2, UNFILTERED),
-                storage_entry(3, PREPARED_FORMAT),
-            ]
+        let layered = options.mode.split() > 1;
+        let split_in_prepare = layered && options.fused;
+        let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
+            compile(
+                device,
+                Pass::Prepare {
+                    depth,
+                    layers: split_in_prepare,
+                },
+                &options,
+            )
+        });
+        let later_passes = match (layered, options.fused) {
+            (false, _) => vec![Pass::AoFull],
+            (true, true) => vec![Pass::AoLayered { merge: true }],
+            (true, false) => vec![
+                Pass::Deinterleave,
+                Pass::AoLayered { merge: false },
+                Pass::Interleave,
+            ],
         };
-        let prepare_depth = pipeline(
-            device,
-            Pass::PrepareDepth,
-            &prepare_entries(wgpu::TextureSampleType::Depth),
-            &[],
-        );
-        let prepare_float = pipeline(
-            device,
-            Pass::PrepareFloat,
-            &prepare_entries(UNFILTERED),
-            &[],
-        );
-        let hbao = pipeline(
-            device,
-            Pass::Hbao,
-            &[
-                UNIFORM_ENTRY,
-                texture_entry(1, UNFILTERED),
-                storage_entry(2, AO_FORMAT),
-            ],
-            &[
-                ("DIRECTIONS", options.directions as f64),
-                ("STEPS", options.steps as f64),
-            ],
-        );
+        let later = later_passes
+            .into_iter()
+            .map(|p| compile(device, p, &options))
+            .collect();
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("obscura frame uniforms"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
@@ -231,9 +325,8 @@ impl Ao {
         }
         Ok(Self {
             options,
-            prepare_depth,
-            prepare_float,
-            hbao,
+            prepare,
+            later,
             uniforms,
             dummy_normals,
             max_dim: device.limits().max_texture_dimension_2d,
@@ -249,7 +342,7 @@ impl Ao {
     /// Checks `input` and `params` and derives the frame uniforms. No GPU work.
     pub fn validate(&self, input: &AoInput<'_>, params: &AoParams) -> Result<FrameUniforms> {
         let tex = input.depth.texture();
-        depth_binding_kind(tex.format())?;
+        depth_binding(tex.format())?;
         if tex.sample_count() != 1 {
             return Err(Error::UnsupportedFormat {
                 what: "multisampled depth",
@@ -327,58 +420,130 @@ impl Ao {
         if self.sized.as_ref().is_some_and(|s| s.size == size) {
             return;
         }
-        let extent = wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        };
-        let make = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let prepared = make(
-            "obscura prepared depth+normal",
-            PREPARED_FORMAT,
-            wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-        );
-        let output = make(
-            "obscura ao",
-            AO_FORMAT,
-            wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-        );
-        let prepared_view = prepared.create_view(&Default::default());
+        let n = self.options.mode.split();
+        let full = (size[0], size[1]);
+        let lsize = layer_size(size[0], size[1], n);
+        let layered = n > 1;
+        let needs_full_prepared = !layered || !self.options.fused;
+        let prepared = needs_full_prepared.then(|| {
+            make_texture(device, "obscura prepared", full, 1, PREPARED_FORMAT)
+                .create_view(&Default::default())
+        });
+        let prepared_layers = layered.then(|| {
+            array_view(&make_texture(
+                device,
+                "obscura prepared layers",
+                lsize,
+                n * n,
+                PREPARED_FORMAT,
+            ))
+        });
+        let ao_layers = (layered && !self.options.fused).then(|| {
+            array_view(&make_texture(
+                device,
+                "obscura ao layers",
+                lsize,
+                n * n,
+                AO_FORMAT,
+            ))
+        });
+        let output = make_texture(device, "obscura ao", full, 1, AO_FORMAT);
         let output_view = output.create_view(&Default::default());
-        let hbao_bind = bind_group(
-            device,
-            "hbao",
-            &self.hbao.1,
-            &self.uniforms,
-            &[&prepared_view, &output_view],
-        );
+        let (fx, fy) = dispatch_size(size);
+        let (lx, ly) = dispatch_size([lsize.0, lsize.1]);
+        let full_dispatch = [fx, fy, 1];
+        let layer_dispatch = [lx, ly, n * n];
+        let later = self
+            .later
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| {
+                let (views, dispatch): (Vec<(u32, &wgpu::TextureView)>, _) = match c.pass {
+                    Pass::AoFull => (
+                        vec![(1, prepared.as_ref()?), (2, &output_view)],
+                        full_dispatch,
+                    ),
+                    Pass::AoLayered { merge } => (
+                        vec![
+                            (1, prepared_layers.as_ref()?),
+                            (
+                                2,
+                                if merge {
+                                    &output_view
+                                } else {
+                                    ao_layers.as_ref()?
+                                },
+                            ),
+                        ],
+                        layer_dispatch,
+                    ),
+                    Pass::Deinterleave => (
+                        vec![(1, prepared.as_ref()?), (3, prepared_layers.as_ref()?)],
+                        full_dispatch,
+                    ),
+                    Pass::Interleave => (
+                        vec![(1, ao_layers.as_ref()?), (2, &output_view)],
+                        full_dispatch,
+                    ),
+                    Pass::Prepare { .. } => return None,
+                };
+                Some((i, bind_group(device, c, &self.uniforms, &views), dispatch))
+            })
+            .collect();
         self.sized = Some(SizedResources {
             size,
-            prepared_view,
+            prepared,
+            prepared_layers,
             output,
             output_view,
-            hbao_bind,
+            later,
         });
     }
 
+    /// Validates, uploads uniforms, and returns the passes of this frame in order as
+    /// (compiled pass, bind group, dispatch size).
+    fn plan(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        input: &AoInput<'_>,
+        params: &AoParams,
+    ) -> Result<Vec<(&Compiled, wgpu::BindGroup, [u32; 3])>> {
+        let frame = self.validate(input, params)?;
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
+        let binding = depth_binding(input.depth.texture().format())?;
+        self.ensure_size(device, frame.size);
+        let Some(sized) = self.sized.as_ref() else {
+            return Err(Error::Gpu("size-dependent resources missing".into()));
+        };
+        let normals = input.normals.map_or(&self.dummy_normals, |n| n.0);
+        let prepare = &self.prepare[match binding {
+            DepthBinding::Depth => 0,
+            DepthBinding::Float => 1,
+        }];
+        let (target, dispatch) = match (&sized.prepared, &sized.prepared_layers) {
+            (Some(full), _) => (full, frame.size),
+            (None, Some(layers)) => (layers, frame.size),
+            (None, None) => return Err(Error::Gpu("no prepare target".into())),
+        };
+        let (gx, gy) = dispatch_size(dispatch);
+        let prepare_bind = bind_group(
+            device,
+            prepare,
+            &self.uniforms,
+            &[(1, input.depth), (2, normals), (3, target)],
+        );
+        let mut passes = vec![(prepare, prepare_bind, [gx, gy, 1])];
+        for (i, bg, d) in &sized.later {
+            passes.push((&self.later[*i], bg.clone(), *d));
+        }
+        Ok(passes)
+    }
+
     /// Validates the inputs, writes the frame uniforms and records the AO passes into
-    /// `encoder`. The result is [`Ao::output`] once the encoder's commands have run.
-    /// Record at most once per queue submission (the uniforms are shared).
+    /// `encoder`, in one compute pass with a debug group per pass. The result is
+    /// [`Ao::output`] once the encoder's commands have run. Record at most once per queue
+    /// submission (the uniforms are shared).
     pub fn record(
         &mut self,
         device: &wgpu::Device,
@@ -387,46 +552,47 @@ impl Ao {
         input: &AoInput<'_>,
         params: &AoParams,
     ) -> Result<()> {
-        let frame = self.validate(input, params)?;
-        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
-        let is_depth = depth_binding_kind(input.depth.texture().format())?;
-        self.ensure_size(device, frame.size);
-        let Some(sized) = self.sized.as_ref() else {
-            return Err(Error::Gpu("size-dependent resources missing".into()));
-        };
-        let normals = input.normals.map_or(&self.dummy_normals, |n| n.0);
-        let (prep_pipeline, prep_layout) = if is_depth {
-            &self.prepare_depth
-        } else {
-            &self.prepare_float
-        };
-        let prepare_bind = bind_group(
-            device,
-            "prepare",
-            prep_layout,
-            &self.uniforms,
-            &[input.depth, normals, &sized.prepared_view],
-        );
-        let (gx, gy) = dispatch_size(frame.size);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        let passes = self.plan(device, queue, input, params)?;
+        let mut cpass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("obscura"),
             timestamp_writes: None,
         });
-        pass.push_debug_group(if is_depth {
-            "prepare_depth"
-        } else {
-            "prepare_float"
-        });
-        pass.set_pipeline(prep_pipeline);
-        pass.set_bind_group(0, &prepare_bind, &[]);
-        pass.dispatch_workgroups(gx, gy, 1);
-        pass.pop_debug_group();
-        pass.push_debug_group("hbao");
-        pass.set_pipeline(&self.hbao.0);
-        pass.set_bind_group(0, &sized.hbao_bind, &[]);
-        pass.dispatch_workgroups(gx, gy, 1);
-        pass.pop_debug_group();
+        for (c, bg, d) in &passes {
+            cpass.push_debug_group(c.pass.label());
+            cpass.set_pipeline(&c.pipeline);
+            cpass.set_bind_group(0, bg, &[]);
+            cpass.dispatch_workgroups(d[0], d[1], d[2]);
+            cpass.pop_debug_group();
+        }
         Ok(())
+    }
+
+    /// Like [`Ao::record`], but submits each pass on its own and waits for it, returning
+    /// each pass's label and wall-clock milliseconds (submit + wait). For benchmarks on
+    /// adapters whose timestamps do not bracket dispatches (lavapipe).
+    pub fn run_timed(
+        &mut self,
+        ctx: &crate::GpuContext,
+        input: &AoInput<'_>,
+        params: &AoParams,
+    ) -> Result<Vec<(&'static str, f64)>> {
+        let passes = self.plan(&ctx.device, &ctx.queue, input, params)?;
+        let mut times = Vec::with_capacity(passes.len());
+        for (c, bg, d) in &passes {
+            let t = std::time::Instant::now();
+            ctx.run(|enc| {
+                let mut cpass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(c.pass.label()),
+                    timestamp_writes: None,
+                });
+                cpass.set_pipeline(&c.pipeline);
+                cpass.set_bind_group(0, bg, &[]);
+                cpass.dispatch_workgroups(d[0], d[1], d[2]);
+                Ok(())
+            })?;
+            times.push((c.pass.label(), t.elapsed().as_secs_f64() * 1e3));
+        }
+        Ok(times)
     }
 
     /// The AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a frame was recorded.
@@ -439,9 +605,14 @@ impl Ao {
         self.sized.as_ref().map(|s| &s.output_view)
     }
 
-    /// The prepared `vec4(linear depth, view normal)` texture (`Rgba32Float`), for
-    /// debugging and tests.
+    /// The full-resolution prepared `vec4(linear depth, view normal)` texture
+    /// (`Rgba32Float`) when the mode has one (not fused deinterleaved), for debugging/tests.
     pub fn prepared_view(&self) -> Option<&wgpu::TextureView> {
-        self.sized.as_ref().map(|s| &s.prepared_view)
+        self.sized.as_ref().and_then(|s| s.prepared.as_ref())
+    }
+
+    /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.
+    pub fn prepared_layers_view(&self) -> Option<&wgpu::TextureView> {
+        self.sized.as_ref().and_then(|s| s.prepared_layers.as_ref())
     }
 }

@@ -242,7 +242,8 @@ impl GpuContext {
             .map_err(|e| Error::DeviceLost(e.to_string()))
     }
 
-    /// Reads a whole 2D texture (mip 0, layer 0) back as tightly packed bytes.
+    /// Reads a whole 2D texture or texture array (mip 0, every layer, layer-major) back as
+    /// tightly packed bytes.
     pub fn read_texture(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
         let format = texture.format();
         let bpp = format
@@ -254,12 +255,13 @@ impl GpuContext {
                 expected: "a single-aspect colour or depth format",
             })?;
         let (w, h) = (texture.width(), texture.height());
+        let rows = h * texture.depth_or_array_layers();
         let row = w * bpp;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("obscura read-back"),
-            size: padded as u64 * h as u64,
+            size: padded as u64 * rows as u64,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
@@ -301,8 +303,8 @@ impl GpuContext {
         let data = slice
             .get_mapped_range()
             .map_err(|e| Error::Gpu(e.to_string()))?;
-        let mut out = Vec::with_capacity((row * h) as usize);
-        for y in 0..h as usize {
+        let mut out = Vec::with_capacity((row * rows) as usize);
+        for y in 0..rows as usize {
             let start = y * padded as usize;
             out.extend_from_slice(&data[start..start + row as usize]);
         }

@@ -1,65 +1,67 @@
 //! The 4×4 table of per-pixel sampling patterns (rotation + ray offset). The randomized
 //! single pass picks `pattern[(x % 4) + 4 * (y % 4)]` per pixel, the configuration the
 //! deinterleaving paper compares against (seed 000: "SSAO pass with a 4x4 random texture").
+//! Deinterleaved N×N modes give layer `(i, j)` the pattern `pattern[i + 4 * j]`.
 
 /// Side of the pattern tile in pixels.
 pub const PATTERN_DIM: u32 = 4;
 /// Number of distinct patterns.
 pub const PATTERN_COUNT: usize = (PATTERN_DIM * PATTERN_DIM) as usize;
 
-/// Deterministic pseudo-random permutation of `0..PATTERN_COUNT` (splitmix64-driven
-/// Fisher–Yates), so the table is the same on every run and machine.
-fn permutation(seed: u64) -> [usize; PATTERN_COUNT] {
-    let mut state = seed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    };
-    let mut p: [usize; PATTERN_COUNT] = std::array::from_fn(|i| i);
-    for i in (1..PATTERN_COUNT).rev() {
-        let j = (next() % (i as u64 + 1)) as usize;
-        p.swap(i, j);
-    }
-    p
+/// The 4×4 Bayer (ordered-dither) matrix, row-major: every aligned 2×2 block holds one
+/// value from each quarter of 0..16, so the 2×2 deinterleaved mode, which uses the
+/// top-left block, is stratified too.
+const BAYER4: [u32; PATTERN_COUNT] = [0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5];
+
+/// The pattern table for `directions` directions: entry `k = x + 4y` is
+/// `(cos θ, sin θ, offset, 0)`, with θ a rotation in `[0, 2π/directions)` and `offset` the
+/// fraction of one ray step by which marching starts. Rotation ranks follow the Bayer
+/// matrix and offset ranks its reversed transpose, so both are stratified over the 16
+/// entries and over the top-left 2×2 block.
+pub fn pattern_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
+    let sector = std::f32::consts::TAU / directions.max(1) as f32;
+    let n = PATTERN_COUNT as f32;
+    std::array::from_fn(|k| {
+        let (x, y) = (k % 4, k / 4);
+        let rot = BAYER4[k] as f32;
+        let off = (PATTERN_COUNT as u32 - 1 - BAYER4[x * 4 + y]) as f32;
+        let theta = (rot + 0.5) / n * sector;
+        [theta.cos(), theta.sin(), (off + 0.5) / n, 0.0]
+    })
 }
 
-/// The pattern table for `directions` directions: entry `k` is
-/// `(cos θ_k, sin θ_k, offset_k, 0)`, with θ_k a rotation in `[0, 2π/directions)` and
-/// `offset_k` the fraction of one ray step by which marching starts. Rotations and
-/// offsets are each stratified over the 16 entries (one per 1/16 interval), so every 4×4
-/// tile covers the angle between directions and the step evenly.
-pub fn pattern_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
-    let rot = permutation(0x0b5c_u64);
-    let off = permutation(0xa0_5eed_u64);
-    let sector = std::f32::consts::TAU / directions.max(1) as f32;
-    std::array::from_fn(|k| {
-        let n = PATTERN_COUNT as f32;
-        let theta = (rot[k] as f32 + 0.5) / n * sector;
-        [theta.cos(), theta.sin(), (off[k] as f32 + 0.5) / n, 0.0]
-    })
+/// Index into [`pattern_table`] of full-resolution pixel `(x, y)` when sampling patterns
+/// repeat every `dim` pixels (4 for the randomized pass and 4×4 deinterleaving, 2 for 2×2).
+pub fn pattern_index(x: u32, y: u32, dim: u32) -> usize {
+    ((x % dim) + PATTERN_DIM * (y % dim)) as usize
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn patterns_are_stratified_unit_rotations() {
-        let t = pattern_table(8);
-        let mut rot_bins = [0; PATTERN_COUNT];
-        let mut off_bins = [0; PATTERN_COUNT];
-        let sector = std::f32::consts::TAU / 8.0;
-        for [c, s, o, _] in t {
+    fn bins(t: &[[f32; 4]; PATTERN_COUNT], ks: &[usize], sector: f32) -> (Vec<usize>, Vec<usize>) {
+        let m = ks.len() as f32;
+        let mut rot = vec![0; ks.len()];
+        let mut off = vec![0; ks.len()];
+        for &k in ks {
+            let [c, s, o, _] = t[k];
             assert!(((c * c + s * s) - 1.0).abs() < 1e-5);
             let theta = s.atan2(c);
             assert!((0.0..sector).contains(&theta), "{theta}");
-            rot_bins[(theta / sector * PATTERN_COUNT as f32) as usize] += 1;
-            off_bins[(o * PATTERN_COUNT as f32) as usize] += 1;
+            rot[(theta / sector * m) as usize] += 1;
+            off[(o * m) as usize] += 1;
         }
-        assert_eq!(rot_bins, [1; PATTERN_COUNT]);
-        assert_eq!(off_bins, [1; PATTERN_COUNT]);
+        (rot, off)
+    }
+
+    #[test]
+    fn patterns_are_stratified_for_4x4_and_2x2() {
+        let sector = std::f32::consts::TAU / 8.0;
+        let t = pattern_table(8);
+        let all: Vec<usize> = (0..PATTERN_COUNT).collect();
+        assert_eq!(bins(&t, &all, sector), (vec![1; 16], vec![1; 16]));
+        let two: Vec<usize> = (0..4).map(|l| pattern_index(l % 2, l / 2, 2)).collect();
+        assert_eq!(bins(&t, &two, sector), (vec![1; 4], vec![1; 4]));
     }
 }

@@ -77,7 +77,13 @@ pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {
     out
 }
 
-/// HBAO of one pixel; mirrors `hbao` in shaders/hbao.wgsl.
+/// HBAO of one pixel; mirrors `hbao` in shaders/hbao.wgsl. `lattice` is the sampling
+/// lattice of the mode (1: any pixel; N: offsets snapped to multiples of N, which is what
+/// the N×N deinterleaved pass samples).
+#[allow(
+    clippy::too_many_arguments,
+    reason = "mirrors the shader function's inputs one to one"
+)]
 pub fn hbao_pixel(
     f: &FrameUniforms,
     directions: u32,
@@ -85,6 +91,7 @@ pub fn hbao_pixel(
     prepared: &[Vec4],
     p: [i32; 2],
     pattern: [f32; 4],
+    lattice: u32,
 ) -> f32 {
     let width = f.size[0] as i32;
     let centre_v = prepared[(p[1] * width + p[0]) as usize];
@@ -108,13 +115,14 @@ pub fn hbao_pixel(
             bc * pattern[0] - bs * pattern[1],
             bc * pattern[1] + bs * pattern[0],
         ];
-        let mut ray = pattern[2] * step_px + 1.0;
+        let mut ray = pattern[2] * step_px + lattice as f32;
         let mut sin_h = f.sin_bias;
         for _ in 0..steps {
             // WGSL's round() is round-half-to-even.
+            let l = lattice as f32;
             let q = [
-                p[0] + (dir[0] * ray).round_ties_even() as i32,
-                p[1] + (dir[1] * ray).round_ties_even() as i32,
+                p[0] + (dir[0] * ray / l).round_ties_even() as i32 * lattice as i32,
+                p[1] + (dir[1] * ray / l).round_ties_even() as i32 * lattice as i32,
             ];
             ray += step_px;
             if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
@@ -139,20 +147,29 @@ pub fn hbao_pixel(
     (1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0)
 }
 
-/// The randomized single-pass HBAO over the whole viewport (pattern from the 4×4 table).
-pub fn hbao(f: &FrameUniforms, directions: u32, steps: u32, prepared: &[Vec4]) -> Vec<f32> {
-    let dim = crate::jitter::PATTERN_DIM;
+/// HBAO over the whole viewport in `mode`, computed per full-resolution pixel: the
+/// randomized pass takes the pattern of the pixel's place in the 4×4 tile; an N×N
+/// deinterleaved mode takes the pattern of the pixel's layer and samples on the N-pixel
+/// lattice. The GPU's deinterleaved layout must give exactly this.
+pub fn hbao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<f32> {
+    let n = options.mode.split();
+    let (dim, lattice) = if n == 1 {
+        (crate::jitter::PATTERN_DIM, 1)
+    } else {
+        (n, n)
+    };
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
-            let pattern = f.patterns[((x % dim) + dim * (y % dim)) as usize];
+            let pattern = f.patterns[crate::jitter::pattern_index(x, y, dim)];
             out.push(hbao_pixel(
                 f,
-                directions,
-                steps,
+                options.directions,
+                options.steps,
                 prepared,
                 [x as i32, y as i32],
                 pattern,
+                lattice,
             ));
         }
     }

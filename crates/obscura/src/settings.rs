@@ -3,6 +3,47 @@
 
 use crate::{Error, Result};
 
+/// How the AO pass is laid out over the image (seed 000, "Deinterleaved Texturing").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum AoMode {
+    /// One full-resolution pass; each pixel takes its pattern from the 4×4 table.
+    Randomized,
+    /// The image is split into 2×2 layers (half resolution each); each layer runs with one
+    /// pattern and samples on its own lattice; the results are re-interleaved.
+    Deinterleaved2,
+    /// As `Deinterleaved2` with 4×4 layers (quarter resolution each, 16 patterns).
+    #[default]
+    Deinterleaved4,
+}
+
+impl AoMode {
+    /// Every mode.
+    pub const ALL: [AoMode; 3] = [
+        AoMode::Randomized,
+        AoMode::Deinterleaved2,
+        AoMode::Deinterleaved4,
+    ];
+
+    /// The split factor N (layers are N×N); 1 for the single pass.
+    pub fn split(self) -> u32 {
+        match self {
+            AoMode::Randomized => 1,
+            AoMode::Deinterleaved2 => 2,
+            AoMode::Deinterleaved4 => 4,
+        }
+    }
+
+    /// Short name used by the CLI and benchmark output.
+    pub fn name(self) -> &'static str {
+        match self {
+            AoMode::Randomized => "randomized",
+            AoMode::Deinterleaved2 => "deinterleaved2",
+            AoMode::Deinterleaved4 => "deinterleaved4",
+        }
+    }
+}
+
 /// Creation-time choices: compiled into the shaders as WGSL `override` constants, because
 /// constant loop bounds are markedly faster than uniforms on CPU drivers (see docs/design.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -12,6 +53,13 @@ pub struct AoOptions {
     /// Ray-march steps per direction. Unit: count. Range 1..=32. Default 4.
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
+    /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved4` (never slower
+    /// than the single pass in BENCHMARKS.md, faster at large radii).
+    pub mode: AoMode,
+    /// Deinterleaved modes only: write the layers straight from the prepare pass and the AO
+    /// straight to full resolution (true, default), instead of separate split and merge
+    /// passes over full-resolution intermediates (false; kept to measure the difference).
+    pub fused: bool,
 }
 
 impl Default for AoOptions {
@@ -19,6 +67,8 @@ impl Default for AoOptions {
         Self {
             directions: 8,
             steps: 4,
+            mode: AoMode::default(),
+            fused: true,
         }
     }
 }

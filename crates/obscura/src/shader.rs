@@ -13,51 +13,154 @@ pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Floa
 /// Storage format of the AO output: one channel, 1 = unoccluded, 0 = fully occluded.
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// The compute passes of the pipeline. The name is the file name, pipeline name and debug label.
+/// How the depth input is bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthBinding {
+    /// A depth-format texture (`texture_depth_2d`).
+    Depth,
+    /// A float colour texture (`texture_2d<f32>`, e.g. linear view depth).
+    Float,
+}
+
+/// The compute passes. Each is composed from WGSL fragments in `shaders/` (one pass =
+/// entry file + the fragments it names); [`Pass::label`] is its pipeline name and debug label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
-    /// Linearize a depth-format texture (`texture_depth_2d`) and build normals.
-    PrepareDepth,
-    /// Linearize a float texture (`texture_2d<f32>`, e.g. linear view depth) and build normals.
-    PrepareFloat,
-    /// Horizon-based AO, one full-resolution pass, per-pixel 4×4 patterns.
-    Hbao,
+    /// Linearize depth and build normals; `layers`: store straight into deinterleaved layers.
+    Prepare { depth: DepthBinding, layers: bool },
+    /// The randomized single full-resolution AO pass.
+    AoFull,
+    /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
+    /// else keep the result in layers for [`Pass::Interleave`].
+    AoLayered { merge: bool },
+    /// Full-resolution prepared buffer → layers (unfused split).
+    Deinterleave,
+    /// AO layers → full resolution (unfused merge).
+    Interleave,
 }
 
 impl Pass {
     /// Every pass, for validation tests.
-    pub const ALL: [Pass; 3] = [Pass::PrepareDepth, Pass::PrepareFloat, Pass::Hbao];
+    pub const ALL: [Pass; 9] = [
+        Pass::Prepare {
+            depth: DepthBinding::Depth,
+            layers: false,
+        },
+        Pass::Prepare {
+            depth: DepthBinding::Float,
+            layers: false,
+        },
+        Pass::Prepare {
+            depth: DepthBinding::Depth,
+            layers: true,
+        },
+        Pass::Prepare {
+            depth: DepthBinding::Float,
+            layers: true,
+        },
+        Pass::AoFull,
+        Pass::AoLayered { merge: true },
+        Pass::AoLayered { merge: false },
+        Pass::Deinterleave,
+        Pass::Interleave,
+    ];
 
-    /// The pass's label (also its WGSL file's stem).
+    /// The pass's label.
     pub fn label(self) -> &'static str {
         match self {
-            Pass::PrepareDepth => "prepare_depth",
-            Pass::PrepareFloat => "prepare_float",
-            Pass::Hbao => "hbao",
+            Pass::Prepare {
+                depth: DepthBinding::Depth,
+                layers: false,
+            } => "prepare_depth",
+            Pass::Prepare {
+                depth: DepthBinding::Float,
+                layers: false,
+            } => "prepare_float",
+            Pass::Prepare {
+                depth: DepthBinding::Depth,
+                layers: true,
+            } => "prepare_depth_split",
+            Pass::Prepare {
+                depth: DepthBinding::Float,
+                layers: true,
+            } => "prepare_float_split",
+            Pass::AoFull => "hbao",
+            Pass::AoLayered { merge: true } => "hbao_layers_merge",
+            Pass::AoLayered { merge: false } => "hbao_layers",
+            Pass::Deinterleave => "deinterleave",
+            Pass::Interleave => "interleave",
+        }
+    }
+
+    /// The WGSL fragments of the pass, in order (after the prelude and common.wgsl).
+    fn fragments(self) -> Vec<&'static str> {
+        const ESTIMATOR: &str = include_str!("../shaders/hbao.wgsl");
+        const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
+        const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
+        const STORE_AO_FULL: &str = include_str!("../shaders/ao_store_full.wgsl");
+        const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
+        match self {
+            Pass::Prepare { depth, layers } => vec![
+                match depth {
+                    DepthBinding::Depth => include_str!("../shaders/depth_input_depth.wgsl"),
+                    DepthBinding::Float => include_str!("../shaders/depth_input_float.wgsl"),
+                },
+                if layers {
+                    STORE_PREPARED_LAYERS
+                } else {
+                    STORE_PREPARED_FULL
+                },
+                include_str!("../shaders/prepare.wgsl"),
+            ],
+            Pass::AoFull => vec![
+                ESTIMATOR,
+                STORE_AO_FULL,
+                include_str!("../shaders/ao_full.wgsl"),
+            ],
+            Pass::AoLayered { merge } => vec![
+                ESTIMATOR,
+                if merge {
+                    STORE_AO_FULL
+                } else {
+                    STORE_AO_LAYERS
+                },
+                include_str!("../shaders/ao_layered.wgsl"),
+            ],
+            Pass::Deinterleave => vec![
+                STORE_PREPARED_LAYERS,
+                include_str!("../shaders/deinterleave.wgsl"),
+            ],
+            Pass::Interleave => vec![STORE_AO_FULL, include_str!("../shaders/interleave.wgsl")],
         }
     }
 
     /// The complete WGSL source of the pass.
     pub fn source(self) -> String {
-        let body = match self {
-            Pass::PrepareDepth => [
-                include_str!("../shaders/depth_input_depth.wgsl"),
-                include_str!("../shaders/prepare.wgsl"),
-            ]
-            .concat(),
-            Pass::PrepareFloat => [
-                include_str!("../shaders/depth_input_float.wgsl"),
-                include_str!("../shaders/prepare.wgsl"),
-            ]
-            .concat(),
-            Pass::Hbao => include_str!("../shaders/hbao.wgsl").to_string(),
-        };
-        format!(
-            "{}\n{}\n{}",
-            prelude(),
-            include_str!("../shaders/common.wgsl"),
-            body
-        )
+        let mut s = prelude();
+        s.push('\n');
+        s.push_str(include_str!("../shaders/common.wgsl"));
+        for f in self.fragments() {
+            s.push('\n');
+            s.push_str(f);
+        }
+        s
+    }
+
+    /// The pipeline-overridable constants this pass declares, valued from `options`.
+    pub fn constants(self, options: &crate::AoOptions) -> Vec<(&'static str, f64)> {
+        let split = ("SPLIT", options.mode.split() as f64);
+        let estimator = [
+            ("DIRECTIONS", options.directions as f64),
+            ("STEPS", options.steps as f64),
+        ];
+        match self {
+            Pass::Prepare { layers: false, .. } => vec![],
+            Pass::Prepare { layers: true, .. } | Pass::Deinterleave | Pass::Interleave => {
+                vec![split]
+            }
+            Pass::AoFull => estimator.to_vec(),
+            Pass::AoLayered { .. } => [&estimator[..], &[split]].concat(),
+        }
     }
 }
 

@@ -3,8 +3,8 @@
 
 use glam::{Vec3, Vec4};
 use obscura::{
-    reference, Ao, AoInput, AoOptions, AoParams, DepthConvention, Error, GpuContext, Projection,
-    Viewport,
+    layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error,
+    GpuContext, Projection, Viewport,
 };
 use std::sync::{Mutex, OnceLock};
 
@@ -98,7 +98,11 @@ fn run_ao(
     let frame = ao.validate(&input, params).unwrap();
     c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, params))
         .unwrap();
-    let prepared: Vec<f32> = c.read_f32(ao.prepared_view().unwrap().texture()).unwrap();
+    // Fused deinterleaved modes have no full-resolution prepared buffer.
+    let prepared: Vec<f32> = match ao.prepared_view() {
+        Some(v) => c.read_f32(v.texture()).unwrap(),
+        None => Vec::new(),
+    };
     Run {
         prepared: prepared
             .chunks_exact(4)
@@ -232,7 +236,7 @@ fn prepare_matches_cpu_reference_for_every_convention() {
                 projection,
                 conv,
                 None,
-                AoOptions::default(),
+                randomized(),
                 &AoParams::default(),
             );
             let cpu = reference::prepare(&r.frame, &raw, W);
@@ -271,65 +275,179 @@ impl Yzw for Vec4 {
     }
 }
 
-/// Compares GPU AO with the CPU reference run on the GPU's own prepared buffer.
-fn assert_hbao_matches(r: &Run, options: AoOptions, what: &str) {
-    let cpu = reference::hbao(&r.frame, options.directions, options.steps, &r.prepared);
-    let diffs: Vec<f32> = r.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
-    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-    let max = diffs.iter().cloned().fold(0.0, f32::max);
-    // Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1. A sample position that
-    // lands within float error of a pixel boundary may round to the neighbour on one side.
-    assert!(
-        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
-        "{what}: {close}/{} within 2e-3, max diff {max}",
-        diffs.len()
-    );
+fn randomized() -> AoOptions {
+    AoOptions {
+        mode: AoMode::Randomized,
+        ..Default::default()
+    }
 }
 
-#[test]
-fn hbao_matches_cpu_reference() {
-    let _g = lock();
-    let options = AoOptions {
-        directions: 6,
-        steps: 5,
-    };
+/// Every mode, deinterleaved ones both fused and unfused.
+fn all_variants() -> Vec<AoOptions> {
+    let mut v = vec![randomized()];
+    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+        for fused in [true, false] {
+            v.push(AoOptions {
+                mode,
+                fused,
+                ..Default::default()
+            });
+        }
+    }
+    v
+}
+
+/// GPU AO in every mode against the CPU reference (per full-resolution pixel: the layer's
+/// pattern, offsets snapped to the N-pixel lattice), run on the GPU's own prepared buffer.
+fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str) {
     let params = AoParams {
         radius: 1.5,
         ..Default::default()
     };
-    let p = persp(W, H);
-    let raw = test_scene(&p, W, H);
-    let r = run_ao(
-        &raw,
+    let base = AoOptions {
+        directions: 6,
+        steps: 5,
+        ..randomized()
+    };
+    let prepared = run_ao(
+        raw,
         W,
         H,
-        p,
+        projection,
         DepthConvention::LinearView,
         None,
-        options,
+        base,
         &params,
     );
-    assert_hbao_matches(&r, options, "perspective");
-    assert!(r.ao.iter().any(|&a| a < 0.8), "the scene has occlusion");
+    let mut by_mode = Vec::new();
+    for v in all_variants() {
+        let options = AoOptions {
+            directions: 6,
+            steps: 5,
+            ..v
+        };
+        let r = run_ao(
+            raw,
+            W,
+            H,
+            projection,
+            DepthConvention::LinearView,
+            None,
+            options,
+            &params,
+        );
+        let cpu = reference::hbao(&r.frame, &options, &prepared.prepared);
+        let diffs: Vec<f32> = r.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
+        let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+        let max = diffs.iter().cloned().fold(0.0, f32::max);
+        // Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1. A sample position that
+        // lands within float error of a pixel boundary may round to the neighbour on one side.
+        assert!(
+            close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
+            "{what} {options:?}: {close}/{} within 2e-3, max diff {max}",
+            diffs.len()
+        );
+        if projection.is_perspective() {
+            assert!(
+                r.ao.iter().any(|&a| a < 0.8),
+                "{what}: the scene has occlusion"
+            );
+        }
+        by_mode.push((options, r.ao));
+    }
+    // Fused and unfused split/merge do the same work: bit-identical results.
+    for pair in by_mode.windows(2) {
+        if pair[0].0.mode == pair[1].0.mode {
+            assert_eq!(pair[0].1, pair[1].1, "{what}: fused and unfused differ");
+        }
+    }
+}
 
+#[test]
+fn every_mode_matches_cpu_reference_on_odd_sizes() {
+    let _g = lock();
+    let p = persp(W, H);
+    check_modes_against_reference(p, &test_scene(&p, W, H), "perspective");
     let o = Projection::Orthographic {
         half_width: 4.0 * W as f32 / H as f32,
         half_height: 4.0,
         near: 0.1,
         far: 20.0,
     };
-    let raw = test_scene(&o, W, H);
-    let r = run_ao(
-        &raw,
-        W,
-        H,
-        o,
-        DepthConvention::LinearView,
-        None,
-        options,
-        &params,
-    );
-    assert_hbao_matches(&r, options, "orthographic");
+    check_modes_against_reference(o, &test_scene(&o, W, H), "orthographic");
+}
+
+#[test]
+fn split_layers_hold_exactly_the_prepared_pixels() {
+    let _g = lock();
+    let c = ctx();
+    let p = persp(W, H);
+    let raw = test_scene(&p, W, H);
+    let tex = upload_r32(&raw, W, H);
+    let view = tex.create_view(&Default::default());
+    let input = AoInput {
+        depth: &view,
+        convention: DepthConvention::LinearView,
+        projection: p,
+        normals: None,
+        viewport: None,
+    };
+    let params = AoParams::default();
+    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+        let n = mode.split();
+        let (lw, lh) = layout::layer_size(W, H, n);
+        let mut layers_by_fusion = Vec::new();
+        for fused in [false, true] {
+            let mut ao = Ao::new(
+                &c.device,
+                AoOptions {
+                    mode,
+                    fused,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+                .unwrap();
+            let layers = c
+                .read_f32(ao.prepared_layers_view().unwrap().texture())
+                .unwrap();
+            assert_eq!(layers.len(), (lw * lh * n * n * 4) as usize);
+            if !fused {
+                // The split pass copies each full-resolution texel to (x/N, y/N) of layer
+                // x%N + N·(y%N): compare bit for bit.
+                let full = c.read_f32(ao.prepared_view().unwrap().texture()).unwrap();
+                for y in 0..H {
+                    for x in 0..W {
+                        let l = layout::layer_of(x, y, n);
+                        let (tx, ty) = layout::layer_texel(x, y, n);
+                        let li = (((l * lh + ty) * lw + tx) * 4) as usize;
+                        let fi = ((y * W + x) * 4) as usize;
+                        let a: &[u32] = bytemuck::cast_slice(&layers[li..li + 4]);
+                        let b: &[u32] = bytemuck::cast_slice(&full[fi..fi + 4]);
+                        assert_eq!(a, b, "{mode:?} pixel ({x}, {y})");
+                    }
+                }
+            }
+            layers_by_fusion.push(layers);
+        }
+        // The prepare pass writing layers directly (fused split) gives the same layers,
+        // compared on the texels that have a source pixel (the rest is padding).
+        for l in 0..n * n {
+            for ty in 0..lh {
+                for tx in 0..lw {
+                    if layout::full_pixel(l, (tx, ty), n, W, H).is_some() {
+                        let i = (((l * lh + ty) * lw + tx) * 4) as usize;
+                        assert_eq!(
+                            layers_by_fusion[0][i..i + 4],
+                            layers_by_fusion[1][i..i + 4],
+                            "{mode:?} layer {l} texel ({tx}, {ty})"
+                        );
+                    }
+                }
+            }
+        }
+    }
 }
 
 #[test]
@@ -398,25 +516,36 @@ fn planes_facing_or_tilted_are_unoccluded() {
             Vec3::new(60f32.to_radians().sin(), 0.0, 60f32.to_radians().cos()),
         ),
     ] {
-        let raw = ray_cast(&p, w, h, &[(Vec3::new(0.0, 0.0, -5.0), normal)], &[]);
-        let r = run_ao(
-            &raw,
-            w,
-            h,
-            p,
-            DepthConvention::LinearView,
-            None,
-            AoOptions::default(),
-            &params,
-        );
-        let min = r.ao.iter().cloned().fold(1.0, f32::min);
-        assert!(min > 0.999, "{name}: min AO {min}");
+        for mode in AoMode::ALL {
+            let raw = ray_cast(&p, w, h, &[(Vec3::new(0.0, 0.0, -5.0), normal)], &[]);
+            let r = run_ao(
+                &raw,
+                w,
+                h,
+                p,
+                DepthConvention::LinearView,
+                None,
+                AoOptions {
+                    mode,
+                    ..Default::default()
+                },
+                &params,
+            );
+            let min = r.ao.iter().cloned().fold(1.0, f32::min);
+            assert!(min > 0.999, "{mode:?} {name}: min AO {min}");
+        }
     }
 }
 
 #[test]
 fn crease_darkens_monotonically_toward_the_corner() {
     let _g = lock();
+    for mode in AoMode::ALL {
+        crease_check(mode);
+    }
+}
+
+fn crease_check(mode: AoMode) {
     let (w, h) = (128, 128);
     let p = persp(w, h);
     // Two walls at 45° to the view axis meet in a vertical 90° concave crease at
@@ -447,6 +576,8 @@ fn crease_darkens_monotonically_toward_the_corner() {
         AoOptions {
             directions: 8,
             steps: 6,
+            mode,
+            ..Default::default()
         },
         &params,
     );
@@ -467,11 +598,14 @@ fn crease_darkens_monotonically_toward_the_corner() {
     for side in [&left, &right] {
         for pair in side.windows(2) {
             // Nearer the corner must be darker (or equal within 0.005 of averaging noise).
-            assert!(pair[0] <= pair[1] + 0.005, "not monotonic: {side:?}");
+            assert!(
+                pair[0] <= pair[1] + 0.005,
+                "{mode:?} not monotonic: {side:?}"
+            );
         }
         assert!(
             side[0] < side[side.len() - 1] - 0.1,
-            "corner not darker: {side:?}"
+            "{mode:?} corner not darker: {side:?}"
         );
     }
 }
@@ -510,7 +644,7 @@ fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
         p,
         DepthConvention::LinearView,
         None,
-        AoOptions::default(),
+        randomized(),
         &params,
     );
     assert!(
@@ -541,7 +675,7 @@ fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
         p,
         DepthConvention::LinearView,
         None,
-        AoOptions::default(),
+        randomized(),
         &params,
     );
     let worst =
@@ -641,7 +775,7 @@ fn bad_inputs_are_typed_errors_before_gpu_work() {
             &c.device,
             AoOptions {
                 directions: 0,
-                steps: 4
+                ..Default::default()
             }
         ),
         Err(Error::InvalidSetting {

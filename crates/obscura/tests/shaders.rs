@@ -25,7 +25,7 @@ fn every_pass_validates() {
 
 #[test]
 fn frame_uniforms_layout_matches_wgsl() {
-    let module = parse(Pass::Hbao);
+    let module = parse(Pass::AoFull);
     let (members, span) = module
         .types
         .iter()

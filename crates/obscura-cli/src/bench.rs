@@ -1,0 +1,391 @@
+//! `obscura bench`: the AO pass layouts compared in one process, interleaved
+//! (A B C … A B C …) after warm-up, over on-screen radius × resolution. Wall clock around
+//! submit + wait per pass (lavapipe's timestamps do not bracket dispatches); medians and
+//! ratios to the randomized single pass.
+
+use crate::output::check_png_path;
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use obscura::{
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+};
+use obscura_scene::{default_scene, GBufferRenderer};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Resolutions as WxH, comma-separated.
+    #[arg(long, default_value = "1280x720,1920x1080,3840x2160")]
+    pub resolutions: String,
+    /// On-screen AO radii in pixels, comma-separated. Every pixel gets exactly this radius
+    /// (view-space radius unbounded, clamped by max_radius_px).
+    #[arg(long, default_value = "8,32,128,256")]
+    pub radii: String,
+    /// Timed rounds after one warm-up round; each round runs every variant once.
+    #[arg(long, default_value_t = 3)]
+    pub runs: u32,
+    /// HBAO directions (1..=32).
+    #[arg(long, default_value_t = AoOptions::default().directions)]
+    pub directions: u32,
+    /// Steps per direction (1..=32).
+    #[arg(long, default_value_t = AoOptions::default().steps)]
+    pub steps: u32,
+    /// Write machine-readable results here (one record per variant, resolution and radius).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write a plot of time versus radius per variant (SVG).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+/// One measured cell.
+struct Record {
+    variant: String,
+    width: u32,
+    height: u32,
+    radius_px: f32,
+    median_ms: f64,
+    passes: Vec<(&'static str, f64)>,
+    ratio: f64,
+}
+
+fn variants(directions: u32, steps: u32) -> Vec<(String, AoOptions)> {
+    let mut v = Vec::new();
+    for mode in AoMode::ALL {
+        for fused in [true, false] {
+            if mode == AoMode::Randomized && !fused {
+                continue;
+            }
+            let name = format!("{}{}", mode.name(), if fused { "" } else { "-unfused" });
+            v.push((
+                name,
+                AoOptions {
+                    directions,
+                    steps,
+                    mode,
+                    fused,
+                },
+            ));
+        }
+    }
+    v
+}
+
+fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>> {
+    s.split(',')
+        .map(|t| t.trim().parse::<T>().ok())
+        .collect::<Option<Vec<T>>>()
+        .with_context(|| format!("{what} `{s}` is not a comma-separated list"))
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+pub fn run(a: &BenchArgs) -> Result<()> {
+    let resolutions: Vec<(u32, u32)> = a
+        .resolutions
+        .split(',')
+        .map(|r| {
+            let (w, h) = r
+                .trim()
+                .split_once('x')
+                .with_context(|| format!("resolution `{r}` is not WxH"))?;
+            Ok((w.parse()?, h.parse()?))
+        })
+        .collect::<Result<_>>()
+        .with_context(|| format!("--resolutions `{}`", a.resolutions))?;
+    let radii: Vec<f32> = parse_list(&a.radii, "--radii")?;
+    if resolutions.iter().any(|&(w, h)| w == 0 || h == 0) {
+        bail!("resolutions must be at least 1x1");
+    }
+    if radii.iter().any(|r| !(1.0..=4096.0).contains(r)) {
+        bail!("radii must be pixels in [1, 4096]");
+    }
+    if a.runs == 0 || a.runs > 100 {
+        bail!("--runs must be in 1..=100");
+    }
+    if let Some(p) = &a.plot {
+        check_svg_path(p)?;
+    }
+    let variants = variants(a.directions, a.steps);
+    for (_, o) in &variants {
+        o.validate()?;
+    }
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let raster = GBufferRenderer::new(&ctx.device);
+    let mesh = raster.upload(&ctx, &default_scene::mesh())?;
+    let cam = default_scene::camera();
+    let mut aos: Vec<Ao> = variants
+        .iter()
+        .map(|(_, o)| Ao::new(&ctx.device, *o))
+        .collect::<Result<_, _>>()?;
+    let mut records = Vec::new();
+    let total = resolutions.len() * radii.len();
+    let mut cell = 0;
+    for &(w, h) in &resolutions {
+        let g = raster.render(&ctx, &mesh, &cam, w, h)?;
+        let input = AoInput {
+            depth: &g.depth_view,
+            convention: DepthConvention::Standard,
+            projection: cam.obscura_projection(w as f32 / h as f32),
+            normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
+            viewport: None,
+        };
+        for &r in &radii {
+            cell += 1;
+            let params = AoParams {
+                radius: 1e6,
+                max_radius_px: r,
+                ..Default::default()
+            };
+            let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];
+            for round in 0..=a.runs {
+                for (i, ao) in aos.iter_mut().enumerate() {
+                    let t = ao.run_timed(&ctx, &input, &params)?;
+                    if round > 0 {
+                        times[i].push(t);
+                    }
+                }
+            }
+            let medians: Vec<f64> = times
+                .iter()
+                .map(|runs| median(runs.iter().map(|p| p.iter().map(|x| x.1).sum()).collect()))
+                .collect();
+            let base = medians[0];
+            let mut line = format!("[{cell}/{total}] {w}x{h} radius {r} px:");
+            for (i, (name, _)) in variants.iter().enumerate() {
+                let passes = times[i][0]
+                    .iter()
+                    .enumerate()
+                    .map(|(k, (label, _))| {
+                        (*label, median(times[i].iter().map(|p| p[k].1).collect()))
+                    })
+                    .collect();
+                let _ = write!(
+                    line,
+                    " {name} {:.1} ms ({:.2}x)",
+                    medians[i],
+                    base / medians[i]
+                );
+                records.push(Record {
+                    variant: name.clone(),
+                    width: w,
+                    height: h,
+                    radius_px: r,
+                    median_ms: medians[i],
+                    passes,
+                    ratio: medians[i] / base,
+                });
+            }
+            eprintln!("{line}");
+        }
+    }
+    print!("{}", table(&records, &variants));
+    if let Some(p) = &a.json {
+        write_atomic(p, &json(&records, &ctx, a))?;
+        eprintln!("wrote {}", p.display());
+    }
+    if let Some(p) = &a.plot {
+        write_atomic(p, &svg(&records, &variants, &resolutions))?;
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+fn check_svg_path(p: &Path) -> Result<()> {
+    // Same folder rules as PNG output; only the extension differs.
+    let as_png = p.with_extension("png");
+    check_png_path(&as_png)?;
+    if p.extension().and_then(|e| e.to_str()) != Some("svg") {
+        bail!("--plot `{}` must end in .svg", p.display());
+    }
+    Ok(())
+}
+
+fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
+    let tmp = PathBuf::from(tmp);
+    let r = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    r.with_context(|| format!("cannot write `{}`", path.display()))
+}
+
+/// Markdown: one row per resolution and radius; each variant's median and ratio
+/// (randomized time / variant time, > 1 = faster than randomized).
+fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
+    let mut s = String::from("| resolution | radius px |");
+    for (name, _) in variants {
+        let _ = write!(s, " {name} ms (speed-up) |");
+    }
+    s.push_str("\n|---|---|");
+    s.push_str(&"---|".repeat(variants.len()));
+    s.push('\n');
+    for row in records.chunks(variants.len()) {
+        let _ = write!(
+            s,
+            "| {}×{} | {} |",
+            row[0].width, row[0].height, row[0].radius_px
+        );
+        for r in row {
+            let _ = write!(s, " {:.1} ({:.2}×) |", r.median_ms, 1.0 / r.ratio);
+        }
+        s.push('\n');
+    }
+    s.push_str("\nPer pass (median ms):\n\n| resolution | radius px | variant | passes |\n|---|---|---|---|\n");
+    for r in records {
+        let passes: Vec<String> = r
+            .passes
+            .iter()
+            .map(|(l, t)| format!("{l} {t:.1}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {}×{} | {} | {} | {} |",
+            r.width,
+            r.height,
+            r.radius_px,
+            r.variant,
+            passes.join(", ")
+        );
+    }
+    s
+}
+
+fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs) -> String {
+    let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
+    let mut s = format!(
+        "{{\n  \"adapter\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"runs\": {},\n  \"records\": [\n",
+        esc(&ctx.describe()),
+        a.directions,
+        a.steps,
+        a.runs
+    );
+    for (i, r) in records.iter().enumerate() {
+        let passes: Vec<String> = r
+            .passes
+            .iter()
+            .map(|(l, t)| format!("\"{l}\": {t:.3}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "    {{\"variant\": \"{}\", \"width\": {}, \"height\": {}, \"radius_px\": {}, \"median_ms\": {:.3}, \"ratio_to_randomized\": {:.4}, \"passes_ms\": {{{}}}}}{}",
+            r.variant,
+            r.width,
+            r.height,
+            r.radius_px,
+            r.median_ms,
+            r.ratio,
+            passes.join(", "),
+            if i + 1 == records.len() { "" } else { "," }
+        );
+    }
+    s.push_str("  ]\n}\n");
+    s
+}
+
+/// One panel per resolution: time (ms, from 0) against radius (px, log scale), a line per variant.
+fn svg(records: &[Record], variants: &[(String, AoOptions)], resolutions: &[(u32, u32)]) -> String {
+    // Colour by split factor; unfused variants dashed.
+    let style = |o: &AoOptions| {
+        let color = match o.mode.split() {
+            1 => "#222222",
+            2 => "#1f77b4",
+            _ => "#e6730f",
+        };
+        let dash = if o.fused {
+            ""
+        } else {
+            " stroke-dasharray=\"6 4\""
+        };
+        format!("stroke=\"{color}\"{dash}")
+    };
+    let (pw, ph, m) = (360.0, 260.0, 50.0);
+    let width = m + resolutions.len() as f64 * (pw + m);
+    let height = ph + 2.0 * m + 20.0 * variants.len() as f64;
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    );
+    let radii: Vec<f64> = {
+        let mut r: Vec<f64> = records.iter().map(|r| r.radius_px as f64).collect();
+        r.sort_by(f64::total_cmp);
+        r.dedup();
+        r
+    };
+    let (rmin, rmax) = (
+        radii[0].log2(),
+        radii[radii.len() - 1].log2().max(radii[0].log2() + 1.0),
+    );
+    for (pi, &(w, h)) in resolutions.iter().enumerate() {
+        let x0 = m + pi as f64 * (pw + m);
+        let cells: Vec<&Record> = records
+            .iter()
+            .filter(|r| r.width == w && r.height == h)
+            .collect();
+        let tmax = cells.iter().map(|r| r.median_ms).fold(1e-9, f64::max) * 1.1;
+        let px = |r: f64| x0 + (r.log2() - rmin) / (rmax - rmin) * pw;
+        let py = |t: f64| m + ph - t / tmax * ph;
+        let _ = writeln!(s, "<rect x=\"{x0}\" y=\"{m}\" width=\"{pw}\" height=\"{ph}\" fill=\"none\" stroke=\"#999\"/>");
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{w}×{h}</text>",
+            x0 + pw / 2.0,
+            m - 10.0
+        );
+        for &r in &radii {
+            let _ = writeln!(
+                s,
+                "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{r}</text>",
+                px(r),
+                m + ph + 15.0
+            );
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">radius (px, log scale)</text>",
+            x0 + pw / 2.0,
+            m + ph + 32.0
+        );
+        for k in 0..=4 {
+            let t = tmax * k as f64 / 4.0;
+            let _ = writeln!(
+                s,
+                "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{t:.0}</text>",
+                x0 - 4.0,
+                py(t) + 4.0
+            );
+        }
+        for (name, o) in variants {
+            let pts: Vec<String> = cells
+                .iter()
+                .filter(|r| &r.variant == name)
+                .map(|r| format!("{:.1},{:.1}", px(r.radius_px as f64), py(r.median_ms)))
+                .collect();
+            let _ = writeln!(
+                s,
+                "<polyline points=\"{}\" fill=\"none\" {} stroke-width=\"2\"/>",
+                pts.join(" "),
+                style(o)
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"10\" y=\"{}\" transform=\"rotate(-90 10 {})\">median ms per frame</text>",
+        m + ph / 2.0,
+        m + ph / 2.0
+    );
+    for (vi, (name, o)) in variants.iter().enumerate() {
+        let y = m + ph + 50.0 + 18.0 * vi as f64;
+        let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" {} stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{name}</text>", m + 30.0, style(o), m + 38.0, y + 4.0);
+    }
+    s.push_str("</svg>\n");
+    s
+}

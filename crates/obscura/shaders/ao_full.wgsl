@@ -1,0 +1,26 @@
+// The randomized single pass: every full-resolution pixel runs the estimator with the
+// pattern of its position in the 4x4 tile, sampling at rounded pixel offsets. Composed
+// with an estimator (hbao.wgsl) and ao_store_full.wgsl.
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(1) var prepared_in: texture_2d<f32>;
+
+const LATTICE: u32 = 1u;
+
+fn snap_offset(v: vec2<f32>) -> vec2<i32> {
+    return vec2<i32>(round(v));
+}
+
+fn sample_depth(q: vec2<i32>) -> f32 {
+    return textureLoad(prepared_in, q, 0).x;
+}
+
+@compute @workgroup_size(WG_SIZE, WG_SIZE)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if any(gid.xy >= frame.size) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    let pattern = frame.patterns[(gid.x % PATTERN_DIM) + PATTERN_DIM * (gid.y % PATTERN_DIM)];
+    store_ao(gid.xy, gid.xy, 0u, hbao(p, textureLoad(prepared_in, p, 0), pattern));
+}

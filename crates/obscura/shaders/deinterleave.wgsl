@@ -1,0 +1,13 @@
+// Split pass (unfused mode): full-resolution prepared buffer -> SPLIT x SPLIT layers.
+// Composed with prepare_store_layers.wgsl (binding 3, `store_prepared`).
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(1) var prepared_in: texture_2d<f32>;
+
+@compute @workgroup_size(WG_SIZE, WG_SIZE)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if any(gid.xy >= frame.size) {
+        return;
+    }
+    store_prepared(gid.xy, textureLoad(prepared_in, gid.xy, 0));
+}
