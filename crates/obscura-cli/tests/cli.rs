@@ -29,9 +29,9 @@ fn render_writes_ao_depth_and_normal_images() {
     let out = obscura(&[
         "render",
         "--width",
-        "96",
+        "192",
         "--height",
-        "54",
+        "108",
         "--runs",
         "1",
         "--out",
@@ -48,7 +48,7 @@ fn render_writes_ao_depth_and_normal_images() {
         "progress and timing on stderr: {err}"
     );
     let img = image::open(&ao).unwrap().to_luma8();
-    assert_eq!(img.dimensions(), (96, 54));
+    assert_eq!(img.dimensions(), (192, 108));
     let (lo, hi) = img
         .pixels()
         .fold((255u8, 0u8), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
@@ -58,11 +58,11 @@ fn render_writes_ao_depth_and_normal_images() {
     );
     assert_eq!(
         image::open(&normals).unwrap().to_rgb8().dimensions(),
-        (96, 54)
+        (192, 108)
     );
     assert_eq!(
         image::open(&depth).unwrap().to_luma8().dimensions(),
-        (96, 54)
+        (192, 108)
     );
     let leftovers: Vec<_> = std::fs::read_dir(&d)
         .unwrap()
