@@ -1,13 +1,15 @@
 //! `obscura bench`: the AO pass layouts compared in one process, interleaved
-//! (A B C … A B C …) after warm-up, over on-screen radius × resolution. Wall clock around
-//! submit + wait per pass (lavapipe's timestamps do not bracket dispatches); medians and
-//! ratios to the randomized single pass.
+//! (A B C … A B C …) after warm-up, over on-screen radius × resolution. GPU timestamps per
+//! pass on hardware adapters; on CPU adapters (lavapipe, whose timestamps do not bracket
+//! dispatches) the wall clock around submit + wait of each pass. Medians and ratios to the
+//! randomized single pass.
 
 use crate::output::check_png_path;
+use crate::render::NormalSource;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding, Timing,
 };
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
@@ -31,6 +33,9 @@ pub struct BenchArgs {
     /// Steps per direction (1..=32).
     #[arg(long, default_value_t = AoOptions::default().steps)]
     pub steps: u32,
+    /// Where the AO normals come from (the G-buffer's, or reconstructed from depth).
+    #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
+    pub normals: NormalSource,
     /// Write machine-readable results here (one record per variant, resolution and radius).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -116,7 +121,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     }
 
     let ctx = GpuContext::new()?;
-    eprintln!("adapter: {}", ctx.describe());
+    let timing = Timing::best_for(&ctx);
+    eprintln!("adapter: {}; timing: {timing:?}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
     let mesh = raster.upload(&ctx, &default_scene::mesh())?;
     let cam = default_scene::camera();
@@ -133,7 +139,10 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             depth: &g.depth_view,
             convention: DepthConvention::Standard,
             projection: cam.obscura_projection(w as f32 / h as f32),
-            normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
+            normals: match a.normals {
+                NormalSource::Gbuffer => Some((&g.normals_view, NormalEncoding::ViewSigned)),
+                NormalSource::Reconstruct => None,
+            },
             viewport: None,
         };
         for &r in &radii {
@@ -146,7 +155,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];
             for round in 0..=a.runs {
                 for (i, ao) in aos.iter_mut().enumerate() {
-                    let t = ao.run_timed(&ctx, &input, &params)?;
+                    let t = ao.run_timed(&ctx, &input, &params, timing)?;
                     if round > 0 {
                         times[i].push(t);
                     }

@@ -47,8 +47,32 @@ struct SizedResources {
     /// `output`: full size, AO_FORMAT.
     output: wgpu::Texture,
     output_view: wgpu::TextureView,
+    /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
+    prepare_dispatch: [u32; 3],
     /// Bind groups of every pass after prepare, in order, with their dispatch sizes.
     later: Vec<(usize, wgpu::BindGroup, [u32; 3])>,
+}
+
+/// How [`Ao::run_timed`] measures each pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Timing {
+    /// Wall clock around submit + wait of each pass on its own: the only honest clock on
+    /// lavapipe, whose timestamps do not bracket dispatches.
+    WallClock,
+    /// GPU timestamp queries around each pass, all passes in one submission (hardware
+    /// adapters with `TIMESTAMP_QUERY`).
+    Timestamps,
+}
+
+impl Timing {
+    /// Timestamps where the context says they bracket dispatches, else the wall clock.
+    pub fn best_for(ctx: &crate::GpuContext) -> Self {
+        if ctx.has_timestamps() {
+            Timing::Timestamps
+        } else {
+            Timing::WallClock
+        }
+    }
 }
 
 /// A compiled pass: pipeline and the layout of its bind group.
@@ -63,8 +87,8 @@ struct Compiled {
 #[derive(Debug)]
 pub struct Ao {
     options: AoOptions,
-    /// Prepare for depth-format and float inputs.
-    prepare: [Compiled; 2],
+    /// Prepare for [depth-format, float] inputs × [given, reconstructed] normals.
+    prepare: [[Compiled; 2]; 2],
     /// The passes after prepare, in execution order.
     later: Vec<Compiled>,
     uniforms: wgpu::Buffer,
@@ -126,7 +150,7 @@ const D2_ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array
 fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
     let rest = match pass {
-        Pass::Prepare { depth, layers } => vec![
+        Pass::Prepare { depth, layers, .. } => vec![
             texture_entry(
                 1,
                 match depth {
@@ -274,14 +298,17 @@ impl Ao {
         let layered = options.mode.split() > 1;
         let split_in_prepare = layered && options.fused;
         let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
-            compile(
-                device,
-                Pass::Prepare {
-                    depth,
-                    layers: split_in_prepare,
-                },
-                &options,
-            )
+            [false, true].map(|reconstruct| {
+                compile(
+                    device,
+                    Pass::Prepare {
+                        depth,
+                        layers: split_in_prepare,
+                        reconstruct,
+                    },
+                    &options,
+                )
+            })
         });
         let later_passes = match (layered, options.fused) {
             (false, _) => vec![Pass::AoFull],
@@ -479,7 +506,7 @@ impl Ao {
                     ),
                     Pass::Deinterleave => (
                         vec![(1, prepared.as_ref()?), (3, prepared_layers.as_ref()?)],
-                        full_dispatch,
+                        layer_dispatch,
                     ),
                     Pass::Interleave => (
                         vec![(1, ao_layers.as_ref()?), (2, &output_view)],
@@ -492,6 +519,11 @@ impl Ao {
             .collect();
         self.sized = Some(SizedResources {
             size,
+            prepare_dispatch: if needs_full_prepared {
+                full_dispatch
+            } else {
+                layer_dispatch
+            },
             prepared,
             prepared_layers,
             output,
@@ -520,20 +552,19 @@ impl Ao {
         let prepare = &self.prepare[match binding {
             DepthBinding::Depth => 0,
             DepthBinding::Float => 1,
-        }];
-        let (target, dispatch) = match (&sized.prepared, &sized.prepared_layers) {
-            (Some(full), _) => (full, frame.size),
-            (None, Some(layers)) => (layers, frame.size),
+        }][input.normals.is_none() as usize];
+        let target = match (&sized.prepared, &sized.prepared_layers) {
+            (Some(full), _) => full,
+            (None, Some(layers)) => layers,
             (None, None) => return Err(Error::Gpu("no prepare target".into())),
         };
-        let (gx, gy) = dispatch_size(dispatch);
         let prepare_bind = bind_group(
             device,
             prepare,
             &self.uniforms,
             &[(1, input.depth), (2, normals), (3, target)],
         );
-        let mut passes = vec![(prepare, prepare_bind, [gx, gy, 1])];
+        let mut passes = vec![(prepare, prepare_bind, sized.prepare_dispatch)];
         for (i, bg, d) in &sized.later {
             passes.push((&self.later[*i], bg.clone(), *d));
         }
@@ -567,32 +598,91 @@ impl Ao {
         Ok(())
     }
 
-    /// Like [`Ao::record`], but submits each pass on its own and waits for it, returning
-    /// each pass's label and wall-clock milliseconds (submit + wait). For benchmarks on
-    /// adapters whose timestamps do not bracket dispatches (lavapipe).
+    /// Runs one frame and returns each pass's label and milliseconds, measured as `timing`
+    /// says. For benchmarks: it creates timing resources per call.
     pub fn run_timed(
         &mut self,
         ctx: &crate::GpuContext,
         input: &AoInput<'_>,
         params: &AoParams,
+        timing: Timing,
     ) -> Result<Vec<(&'static str, f64)>> {
         let passes = self.plan(&ctx.device, &ctx.queue, input, params)?;
-        let mut times = Vec::with_capacity(passes.len());
-        for (c, bg, d) in &passes {
-            let t = std::time::Instant::now();
-            ctx.run(|enc| {
-                let mut cpass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(c.pass.label()),
-                    timestamp_writes: None,
+        let dispatch = |enc: &mut wgpu::CommandEncoder,
+                        (c, bg, d): &(&Compiled, wgpu::BindGroup, [u32; 3]),
+                        ts: Option<wgpu::ComputePassTimestampWrites>| {
+            let mut cpass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(c.pass.label()),
+                timestamp_writes: ts,
+            });
+            cpass.set_pipeline(&c.pipeline);
+            cpass.set_bind_group(0, bg, &[]);
+            cpass.dispatch_workgroups(d[0], d[1], d[2]);
+        };
+        match timing {
+            Timing::WallClock => {
+                let mut times = Vec::with_capacity(passes.len());
+                for p in &passes {
+                    let t = std::time::Instant::now();
+                    ctx.run(|enc| {
+                        dispatch(enc, p, None);
+                        Ok(())
+                    })?;
+                    times.push((p.0.pass.label(), t.elapsed().as_secs_f64() * 1e3));
+                }
+                Ok(times)
+            }
+            Timing::Timestamps => {
+                if !ctx
+                    .device
+                    .features()
+                    .contains(wgpu::Features::TIMESTAMP_QUERY)
+                {
+                    return Err(Error::Gpu("the device has no timestamp queries".into()));
+                }
+                let count = 2 * passes.len() as u32;
+                let bytes = 8 * count as u64;
+                let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("obscura pass timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count,
                 });
-                cpass.set_pipeline(&c.pipeline);
-                cpass.set_bind_group(0, bg, &[]);
-                cpass.dispatch_workgroups(d[0], d[1], d[2]);
-                Ok(())
-            })?;
-            times.push((c.pass.label(), t.elapsed().as_secs_f64() * 1e3));
+                let buffer = |usage| {
+                    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("obscura timestamps"),
+                        size: bytes,
+                        usage,
+                        mapped_at_creation: false,
+                    })
+                };
+                let resolved =
+                    buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
+                let readback = buffer(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ);
+                ctx.run(|enc| {
+                    for (i, p) in passes.iter().enumerate() {
+                        let writes = wgpu::ComputePassTimestampWrites {
+                            query_set: &set,
+                            beginning_of_pass_write_index: Some(2 * i as u32),
+                            end_of_pass_write_index: Some(2 * i as u32 + 1),
+                        };
+                        dispatch(enc, p, Some(writes));
+                    }
+                    enc.resolve_query_set(&set, 0..count, &resolved, 0);
+                    enc.copy_buffer_to_buffer(&resolved, 0, &readback, 0, bytes);
+                    Ok(())
+                })?;
+                let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&ctx.map_read(&readback)?);
+                let ns_per_tick = ctx.queue.get_timestamp_period() as f64;
+                Ok(passes
+                    .iter()
+                    .zip(ticks.chunks_exact(2))
+                    .map(|(p, t)| {
+                        let ms = t[1].saturating_sub(t[0]) as f64 * ns_per_tick / 1e6;
+                        (p.0.pass.label(), ms)
+                    })
+                    .collect())
+            }
         }
-        Ok(times)
     }
 
     /// The AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a frame was recorded.

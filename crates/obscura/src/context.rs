@@ -289,6 +289,17 @@ impl GpuContext {
             );
             Ok(())
         })?;
+        let data = self.map_read(&buffer)?;
+        let mut out = Vec::with_capacity((row * rows) as usize);
+        for y in 0..rows as usize {
+            let start = y * padded as usize;
+            out.extend_from_slice(&data[start..start + row as usize]);
+        }
+        Ok(out)
+    }
+
+    /// Maps a `MAP_READ` buffer whose writes were submitted, and copies its contents out.
+    pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
         let slice = buffer.slice(..);
         let (tx, rx) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -302,15 +313,10 @@ impl GpuContext {
             .map_err(|e| Error::Gpu(e.to_string()))?;
         let data = slice
             .get_mapped_range()
-            .map_err(|e| Error::Gpu(e.to_string()))?;
-        let mut out = Vec::with_capacity((row * rows) as usize);
-        for y in 0..rows as usize {
-            let start = y * padded as usize;
-            out.extend_from_slice(&data[start..start + row as usize]);
-        }
-        drop(data);
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .to_vec();
         buffer.unmap();
-        Ok(out)
+        Ok(data)
     }
 
     /// Reads an `R32Float`/`Depth32Float` texture as `f32`s, or `Rgba32Float` as 4 per texel.

@@ -26,7 +26,7 @@ pub mod settings;
 pub mod shader;
 pub mod uniforms;
 
-pub use ao::{Ao, AoInput};
+pub use ao::{Ao, AoInput, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};

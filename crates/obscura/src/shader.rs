@@ -26,8 +26,13 @@ pub enum DepthBinding {
 /// entry file + the fragments it names); [`Pass::label`] is its pipeline name and debug label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
-    /// Linearize depth and build normals; `layers`: store straight into deinterleaved layers.
-    Prepare { depth: DepthBinding, layers: bool },
+    /// Linearize depth and build normals; `layers`: store straight into deinterleaved
+    /// layers; `reconstruct`: normals from depth (else from the caller's texture).
+    Prepare {
+        depth: DepthBinding,
+        layers: bool,
+        reconstruct: bool,
+    },
     /// The randomized single full-resolution AO pass.
     AoFull,
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
@@ -40,30 +45,29 @@ pub enum Pass {
 }
 
 impl Pass {
-    /// Every pass, for validation tests.
-    pub const ALL: [Pass; 9] = [
-        Pass::Prepare {
-            depth: DepthBinding::Depth,
-            layers: false,
-        },
-        Pass::Prepare {
-            depth: DepthBinding::Float,
-            layers: false,
-        },
-        Pass::Prepare {
-            depth: DepthBinding::Depth,
-            layers: true,
-        },
-        Pass::Prepare {
-            depth: DepthBinding::Float,
-            layers: true,
-        },
-        Pass::AoFull,
-        Pass::AoLayered { merge: true },
-        Pass::AoLayered { merge: false },
-        Pass::Deinterleave,
-        Pass::Interleave,
-    ];
+    /// Every pass variant, for validation tests.
+    pub fn all() -> Vec<Pass> {
+        let mut v = Vec::new();
+        for depth in [DepthBinding::Depth, DepthBinding::Float] {
+            for layers in [false, true] {
+                for reconstruct in [false, true] {
+                    v.push(Pass::Prepare {
+                        depth,
+                        layers,
+                        reconstruct,
+                    });
+                }
+            }
+        }
+        v.extend([
+            Pass::AoFull,
+            Pass::AoLayered { merge: true },
+            Pass::AoLayered { merge: false },
+            Pass::Deinterleave,
+            Pass::Interleave,
+        ]);
+        v
+    }
 
     /// The pass's label.
     pub fn label(self) -> &'static str {
@@ -71,18 +75,22 @@ impl Pass {
             Pass::Prepare {
                 depth: DepthBinding::Depth,
                 layers: false,
+                ..
             } => "prepare_depth",
             Pass::Prepare {
                 depth: DepthBinding::Float,
                 layers: false,
+                ..
             } => "prepare_float",
             Pass::Prepare {
                 depth: DepthBinding::Depth,
                 layers: true,
+                ..
             } => "prepare_depth_split",
             Pass::Prepare {
                 depth: DepthBinding::Float,
                 layers: true,
+                ..
             } => "prepare_float_split",
             Pass::AoFull => "hbao",
             Pass::AoLayered { merge: true } => "hbao_layers_merge",
@@ -100,10 +108,19 @@ impl Pass {
         const STORE_AO_FULL: &str = include_str!("../shaders/ao_store_full.wgsl");
         const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
         match self {
-            Pass::Prepare { depth, layers } => vec![
+            Pass::Prepare {
+                depth,
+                layers,
+                reconstruct,
+            } => vec![
                 match depth {
                     DepthBinding::Depth => include_str!("../shaders/depth_input_depth.wgsl"),
                     DepthBinding::Float => include_str!("../shaders/depth_input_float.wgsl"),
+                },
+                if reconstruct {
+                    include_str!("../shaders/normals_reconstruct.wgsl")
+                } else {
+                    include_str!("../shaders/normals_given.wgsl")
                 },
                 if layers {
                     STORE_PREPARED_LAYERS

@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec4};
 use obscura::{
     layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error,
-    GpuContext, Projection, Viewport,
+    GpuContext, Projection, Timing, Viewport,
 };
 use std::sync::{Mutex, OnceLock};
 
@@ -817,4 +817,57 @@ fn bad_inputs_are_typed_errors_before_gpu_work() {
     ));
     // Nothing above reached the GPU, so nothing was reported there either.
     c.take_errors().unwrap();
+}
+
+#[test]
+fn timed_runs_report_every_pass_in_order() {
+    let _g = lock();
+    let c = ctx();
+    let p = persp(W, H);
+    let raw = test_scene(&p, W, H);
+    let tex = upload_r32(&raw, W, H);
+    let view = tex.create_view(&Default::default());
+    let input = AoInput {
+        depth: &view,
+        convention: DepthConvention::LinearView,
+        projection: p,
+        normals: None,
+        viewport: None,
+    };
+    let expected: [(AoOptions, &[&str]); 3] = [
+        (randomized(), &["prepare_float", "hbao"]),
+        (
+            AoOptions::default(),
+            &["prepare_float_split", "hbao_layers_merge"],
+        ),
+        (
+            AoOptions {
+                fused: false,
+                ..Default::default()
+            },
+            &["prepare_float", "deinterleave", "hbao_layers", "interleave"],
+        ),
+    ];
+    for (options, labels) in expected {
+        let mut ao = Ao::new(&c.device, options).unwrap();
+        let wall = ao
+            .run_timed(c, &input, &AoParams::default(), Timing::WallClock)
+            .unwrap();
+        let got: Vec<&str> = wall.iter().map(|t| t.0).collect();
+        assert_eq!(got, labels);
+        assert!(wall.iter().all(|t| t.1.is_finite() && t.1 >= 0.0));
+        // The timestamp path runs wherever the feature exists (lavapipe reports it, though
+        // its values do not bracket dispatches); without it, a typed error.
+        let ts = ao.run_timed(c, &input, &AoParams::default(), Timing::Timestamps);
+        if c.device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+        {
+            let ts = ts.unwrap();
+            assert_eq!(ts.iter().map(|t| t.0).collect::<Vec<_>>(), labels);
+            assert!(ts.iter().all(|t| t.1.is_finite() && t.1 >= 0.0));
+        } else {
+            assert!(matches!(ts, Err(Error::Gpu(_))));
+        }
+    }
 }

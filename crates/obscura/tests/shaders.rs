@@ -12,7 +12,7 @@ fn parse(pass: Pass) -> naga::Module {
 
 #[test]
 fn every_pass_validates() {
-    for pass in Pass::ALL {
+    for pass in Pass::all() {
         let module = parse(pass);
         naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
