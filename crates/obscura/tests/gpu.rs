@@ -871,3 +871,79 @@ fn timed_runs_report_every_pass_in_order() {
         }
     }
 }
+
+#[test]
+fn given_normals_are_decoded_and_normalized() {
+    let _g = lock();
+    let c = ctx();
+    let (w, h) = (16u32, 12u32);
+    let depth = upload_r32(&vec![4.0; (w * h) as usize], w, h);
+    let depth_view = depth.create_view(&Default::default());
+    let n = Vec3::new(0.3, -0.4, 0.8);
+    let expected = n.normalize();
+    let make = |format: wgpu::TextureFormat, texel: &[u8]| {
+        let t = c.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("test normals"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let data: Vec<u8> = texel
+            .iter()
+            .copied()
+            .cycle()
+            .take(texel.len() * (w * h) as usize)
+            .collect();
+        c.queue.write_texture(
+            t.as_image_copy(),
+            &data,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(w * texel.len() as u32),
+                rows_per_image: Some(h),
+            },
+            t.size(),
+        );
+        t
+    };
+    let signed = make(
+        wgpu::TextureFormat::Rgba32Float,
+        bytemuck::cast_slice(&[n.x, n.y, n.z, 0.0]),
+    );
+    let unorm_texel = [n.x, n.y, n.z, 0.0].map(|v| ((v * 0.5 + 0.5) * 255.0).round() as u8);
+    let unorm = make(wgpu::TextureFormat::Rgba8Unorm, &unorm_texel);
+    // Tolerances: float input exact to 1e-5; 8-bit unorm input to one quantization step.
+    for (tex, encoding, tol) in [
+        (&signed, obscura::NormalEncoding::ViewSigned, 1e-5),
+        (&unorm, obscura::NormalEncoding::ViewUnorm, 2.0 / 255.0),
+    ] {
+        let view = tex.create_view(&Default::default());
+        let mut ao = Ao::new(&c.device, randomized()).unwrap();
+        let input = AoInput {
+            depth: &depth_view,
+            convention: DepthConvention::LinearView,
+            projection: persp(w, h),
+            normals: Some((&view, encoding)),
+            viewport: None,
+        };
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &AoParams::default()))
+            .unwrap();
+        let prepared = c.read_f32(ao.prepared_view().unwrap().texture()).unwrap();
+        for p in prepared.chunks_exact(4) {
+            let got = Vec3::new(p[1], p[2], p[3]);
+            assert!(
+                (got - expected).abs().max_element() <= tol,
+                "{encoding:?}: {got} vs {expected}"
+            );
+            assert_eq!(p[0], 4.0);
+        }
+    }
+}
