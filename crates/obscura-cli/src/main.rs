@@ -1,6 +1,7 @@
 //! `obscura`: screen-space ambient occlusion from the command line.
 
 mod bench;
+mod eval;
 mod output;
 mod render;
 
@@ -23,6 +24,9 @@ enum Command {
     /// Time the AO pass layouts (randomized, deinterleaved 2×2 and 4×4, fused or not)
     /// against each other over radius and resolution, on the built-in scene.
     Bench(bench::BenchArgs),
+    /// Compare the AO of each pass layout with ray-traced ground truth (RMSE, bias, SSIM,
+    /// error near depth discontinuities, time), on a scene or the shared standard views.
+    Eval(eval::EvalArgs),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +40,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Eval(args) => eval::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

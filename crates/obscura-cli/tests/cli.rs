@@ -227,3 +227,78 @@ fn bench_rejects_bad_lists() {
         );
     }
 }
+
+#[test]
+fn eval_writes_report_json_and_caches_the_reference() {
+    let d = scratch("eval");
+    let (report, json, cache) = (d.join("report"), d.join("q.json"), d.join("cache"));
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
+    let args = [
+        "eval",
+        "--view",
+        "cornell",
+        "--scenes-dir",
+        scenes,
+        "--width",
+        "64",
+        "--height",
+        "40",
+        "--rays",
+        "16",
+        "--runs",
+        "1",
+        "--report",
+        s(&report),
+        "--json",
+        s(&json),
+        "--cache",
+        s(&cache),
+    ];
+    let out = obscura(&args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("mean standard error"), "{err}");
+    let md = std::fs::read_to_string(report.join("index.md")).unwrap();
+    for m in ["randomized", "deinterleaved2", "deinterleaved4"] {
+        assert!(md.contains(&format!("HBAO {m}")), "{md}");
+        let pic = image::open(report.join(format!("cornell-{m}-error.png"))).unwrap();
+        assert_eq!(
+            (pic.width(), pic.height()),
+            (32, 20),
+            "pictures at half size"
+        );
+    }
+    assert!(report.join("quality-vs-time.svg").exists());
+    let j = std::fs::read_to_string(&json).unwrap();
+    assert_eq!(
+        j.matches("\"view\": \"cornell\", \"estimator\"").count(),
+        4,
+        "{j}"
+    );
+    // The second run finds the reference in the cache.
+    let again = obscura(&args);
+    assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn eval_rejects_bad_input() {
+    for (args, msg) in [
+        (&["eval"][..], "choose what to evaluate"),
+        (&["eval", "--view", "nowhere"][..], "unknown view"),
+        (&["eval", "--view", "cornell", "--rays", "0"][..], "--rays"),
+        (&["eval", "--scene", "/no/such.glb"][..], "/no/such.glb"),
+        (
+            &["eval", "--view", "cornell", "--radius=-1"][..],
+            "--radius",
+        ),
+    ] {
+        let out = obscura(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains(msg), "{args:?}: expected `{msg}` in {err}");
+    }
+}

@@ -1,0 +1,654 @@
+//! `obscura eval`: AO from each pass layout against ray-traced ground truth, on a scene
+//! file or the standard views of the shared scenes. Writes a markdown report with
+//! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
+
+use crate::output::{check_png_path, save_png};
+use crate::render::{ModeArg, NormalSource};
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use glam::Vec3;
+use obscura::{
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+};
+use obscura_eval::{cache, metrics, views, Bvh, Falloff, TraceSettings};
+use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FalloffArg {
+    /// Any hit within the radius occludes (the usual definition of AO).
+    None,
+    /// A hit at distance t occludes by 1 − t²/R² (HBAO's weight).
+    Quadratic,
+}
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// Scene file to evaluate (with --camera, or framed from its bounds).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["view", "all"])]
+    pub scene: Option<PathBuf>,
+    /// Camera as EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z[,FOV_Y_DEG] (with --scene).
+    #[arg(long, allow_hyphen_values = true, requires = "scene")]
+    pub camera: Option<String>,
+    /// A standard view by name (repeatable): sponza, cornell, house5, house6, etoile,
+    /// munich, bunny, teapot, dragon.
+    #[arg(long)]
+    pub view: Vec<String>,
+    /// Every standard view.
+    #[arg(long)]
+    pub all: bool,
+    /// The shared scenes folder holding the standard views' files.
+    #[arg(long, default_value = "../shared/scenes")]
+    pub scenes_dir: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 400)]
+    pub height: u32,
+    /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// Rays per pixel of the ray-traced reference.
+    #[arg(long, default_value_t = 256)]
+    pub rays: u32,
+    /// How the reference weighs a hit within the radius.
+    #[arg(long, value_enum, default_value_t = FalloffArg::None)]
+    pub falloff: FalloffArg,
+    /// Pass layouts to evaluate (comma-separated).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "randomized,deinterleaved2,deinterleaved4"
+    )]
+    pub modes: Vec<ModeArg>,
+    /// Where the estimator's normals come from.
+    #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
+    pub normals: NormalSource,
+    /// Timed runs per mode after a warm-up (interleaved across modes); the median is reported.
+    #[arg(long, default_value_t = 5)]
+    pub runs: u32,
+    /// Folder for the report's pictures; created if missing.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// The report's markdown file (default: DIR/index.md). Pictures are linked relative to it.
+    #[arg(long, value_name = "FILE", requires = "report")]
+    pub markdown: Option<PathBuf>,
+    /// Pictures are written at this fraction of the evaluated size (box filter).
+    #[arg(long, default_value_t = 0.5)]
+    pub picture_scale: f32,
+    /// Machine-readable results: one record per view and mode.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Cache folder for ray-traced references.
+    #[arg(long, default_value = ".obscura-cache")]
+    pub cache: PathBuf,
+}
+
+/// One evaluated view: what to load and how to look at it.
+struct Job {
+    name: String,
+    file: PathBuf,
+    camera: Option<([f32; 3], [f32; 3], f32)>,
+}
+
+struct Row {
+    view: String,
+    variant: String,
+    rmse: f32,
+    bias: f32,
+    ssim: f32,
+    band_rmse: f32,
+    ms: Option<f64>,
+}
+
+fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
+    if let Some(f) = &a.scene {
+        let camera = match &a.camera {
+            Some(c) => {
+                let v: Vec<f32> = c
+                    .split(',')
+                    .map(|t| t.trim().parse::<f32>())
+                    .collect::<Result<_, _>>()
+                    .with_context(|| format!("--camera `{c}` is not a list of numbers"))?;
+                if !(v.len() == 6 || v.len() == 7) || v.iter().any(|x| !x.is_finite()) {
+                    bail!("--camera needs 6 or 7 finite numbers (eye, target, optional fov)");
+                }
+                Some((
+                    [v[0], v[1], v[2]],
+                    [v[3], v[4], v[5]],
+                    v.get(6).copied().unwrap_or(60.0),
+                ))
+            }
+            None => None,
+        };
+        let name = f
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scene")
+            .to_string();
+        return Ok(vec![Job {
+            name,
+            file: f.clone(),
+            camera,
+        }]);
+    }
+    let chosen: Vec<&views::StandardView> = if a.all {
+        views::STANDARD_VIEWS.iter().collect()
+    } else if a.view.is_empty() {
+        bail!("choose what to evaluate: --scene FILE, --view NAME or --all");
+    } else {
+        a.view
+            .iter()
+            .map(|n| {
+                views::find(n).with_context(|| {
+                    let names: Vec<&str> = views::STANDARD_VIEWS.iter().map(|v| v.name).collect();
+                    format!(
+                        "unknown view `{n}`; the standard views are {}",
+                        names.join(", ")
+                    )
+                })
+            })
+            .collect::<Result<_>>()?
+    };
+    Ok(chosen
+        .into_iter()
+        .map(|v| Job {
+            name: v.name.to_string(),
+            file: a.scenes_dir.join(v.file),
+            camera: v.camera,
+        })
+        .collect())
+}
+
+fn camera_for(job: &Job, mesh: &Mesh) -> Result<Camera> {
+    let bounds = mesh.bounds().context("the scene has no triangles")?;
+    let mut cam = match job.camera {
+        Some((eye, target, fov)) => Camera {
+            eye: Vec3::from(eye),
+            target: Vec3::from(target),
+            up: Vec3::Y,
+            projection: CameraProjection::Perspective { fov_y_deg: fov },
+            near: 0.0,
+            far: 0.0,
+        },
+        None => Camera::framing(&bounds, CameraProjection::Perspective { fov_y_deg: 50.0 }),
+    };
+    cam.fit_clip_planes(&bounds);
+    cam.validate()?;
+    Ok(cam)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+pub fn run(a: &EvalArgs) -> Result<()> {
+    if a.width == 0 || a.height == 0 || a.width > 8192 || a.height > 8192 {
+        bail!(
+            "--width and --height must be in 1..=8192 (got {}x{})",
+            a.width,
+            a.height
+        );
+    }
+    if a.rays == 0 || a.rays > 65536 {
+        bail!("--rays must be in 1..=65536 (got {})", a.rays);
+    }
+    if a.runs == 0 || a.runs > 1000 {
+        bail!("--runs must be in 1..=1000");
+    }
+    if !(a.picture_scale > 0.0 && a.picture_scale <= 1.0) {
+        bail!("--picture-scale must be in (0, 1]");
+    }
+    if let Some(r) = a.radius {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--radius must be a finite number > 0 (got {r})");
+        }
+    }
+    if a.modes.is_empty() {
+        bail!("--modes needs at least one mode");
+    }
+    let jobs = jobs(a)?;
+    if let Some(dir) = &a.report {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+    }
+    let md_path = a
+        .report
+        .as_ref()
+        .map(|d| a.markdown.clone().unwrap_or_else(|| d.join("index.md")));
+    if let Some(p) = &md_path {
+        check_png_path(&p.with_extension("png"))?;
+    }
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let raster = GBufferRenderer::new(&ctx.device);
+    let variants: Vec<(String, AoOptions)> = a
+        .modes
+        .iter()
+        .map(|m| {
+            let mode: AoMode = (*m).into();
+            (
+                mode.name().to_string(),
+                AoOptions {
+                    mode,
+                    ..Default::default()
+                },
+            )
+        })
+        .collect();
+    let mut aos: Vec<Ao> = variants
+        .iter()
+        .map(|(_, o)| Ao::new(&ctx.device, *o))
+        .collect::<Result<_, _>>()?;
+    let (w, h) = (a.width, a.height);
+    let mut rows = Vec::new();
+    let mut sections = String::new();
+    let mut info = Vec::new();
+    for job in &jobs {
+        let t0 = Instant::now();
+        let bytes = std::fs::read(&job.file)
+            .with_context(|| format!("cannot read scene `{}`", job.file.display()))?;
+        let mesh = Mesh::load(&job.file)
+            .with_context(|| format!("cannot load scene `{}`", job.file.display()))?;
+        let cam = camera_for(job, &mesh)?;
+        let bounds = mesh.bounds().context("the scene has no triangles")?;
+        let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+        let settings = TraceSettings {
+            radius,
+            rays: a.rays,
+            falloff: match a.falloff {
+                FalloffArg::None => Falloff::None,
+                FalloffArg::Quadratic => Falloff::Quadratic,
+            },
+        };
+        eprintln!(
+            "{}: {} triangles, radius {radius:.3}",
+            job.name,
+            mesh.triangle_count()
+        );
+
+        // Ground truth, cached.
+        let key = cache::key(&bytes, &cam, w, h, &settings);
+        let cpath = cache::path(&a.cache, key);
+        let reference = match cache::load(&cpath, w, h) {
+            Some(r) => {
+                eprintln!("  reference: cached ({})", cpath.display());
+                r
+            }
+            None => {
+                let t = Instant::now();
+                let bvh = Bvh::new(obscura_eval::triangles(&mesh));
+                let last = std::sync::atomic::AtomicUsize::new(0);
+                let r = obscura_eval::trace_view(&bvh, &cam, w, h, &settings, &|done, total| {
+                    let pct = done * 10 / total;
+                    if last.fetch_max(pct, std::sync::atomic::Ordering::Relaxed) < pct {
+                        eprintln!(
+                            "  reference: {}% ({:.0} s)",
+                            pct * 10,
+                            t.elapsed().as_secs_f64()
+                        );
+                    }
+                });
+                eprintln!(
+                    "  reference: {}x{} × {} rays in {:.1} s, mean standard error {:.4}",
+                    w,
+                    h,
+                    a.rays,
+                    t.elapsed().as_secs_f64(),
+                    r.mean_std_error
+                );
+                if let Err(e) = cache::store(&cpath, &r) {
+                    eprintln!("  warning: could not cache the reference: {e}");
+                }
+                r
+            }
+        };
+        info.push((
+            job.name.clone(),
+            radius,
+            reference.mean_std_error,
+            mesh.triangle_count(),
+        ));
+
+        // Screen-space AO in each mode, timed interleaved.
+        let gpu_mesh = raster.upload(&ctx, &mesh)?;
+        let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
+        let input = AoInput {
+            depth: &g.depth_view,
+            convention: DepthConvention::Standard,
+            projection: cam.obscura_projection(w as f32 / h as f32),
+            normals: match a.normals {
+                NormalSource::Gbuffer => Some((&g.normals_view, NormalEncoding::ViewSigned)),
+                NormalSource::Reconstruct => None,
+            },
+            viewport: None,
+        };
+        let params = AoParams {
+            radius,
+            ..Default::default()
+        };
+        let mut times = vec![Vec::new(); aos.len()];
+        for round in 0..=a.runs {
+            for (i, ao) in aos.iter_mut().enumerate() {
+                let t = Instant::now();
+                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                if round > 0 {
+                    times[i].push(t.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        let gpu_depth = ctx.read_f32(&g.depth)?;
+        // Compare where both see a surface.
+        let mask: Vec<bool> = reference
+            .depth
+            .iter()
+            .zip(&gpu_depth)
+            .map(|(r, g)| *r > 0.0 && *g < 1.0)
+            .collect();
+        let band: Vec<bool> =
+            metrics::discontinuity_band(&reference.depth, w as usize, h as usize, 0.05, 2)
+                .into_iter()
+                .zip(&mask)
+                .map(|(b, m)| b && *m)
+                .collect();
+        let white = vec![1.0f32; (w * h) as usize];
+        let mut results: Vec<(String, Vec<f32>, Option<f64>)> =
+            vec![("white (no AO)".into(), white, None)];
+        for (i, ao) in aos.iter().enumerate() {
+            let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+            results.push((variants[i].0.clone(), out, Some(median(times[i].clone()))));
+        }
+        let r = &reference.ao;
+        for (name, img, ms) in &results {
+            rows.push(Row {
+                view: job.name.clone(),
+                variant: name.clone(),
+                rmse: metrics::rmse(img, r, &mask),
+                bias: metrics::bias(img, r, &mask),
+                ssim: metrics::ssim(img, r, w as usize, h as usize, &mask),
+                band_rmse: metrics::rmse(img, r, &band),
+                ms: *ms,
+            });
+        }
+        for row in rows.iter().filter(|x| x.view == job.name) {
+            eprintln!(
+                "  {:<16} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  band RMSE {:.4}  {}",
+                row.variant,
+                row.rmse,
+                row.bias,
+                row.ssim,
+                row.band_rmse,
+                row.ms.map_or(String::new(), |m| format!("{m:.1} ms"))
+            );
+        }
+
+        if let (Some(dir), Some(md)) = (&a.report, &md_path) {
+            let rel = relative_dir(dir, md);
+            let pic = |stem: &str| format!("{}-{}.png", job.name, stem);
+            write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
+            let _ = write!(
+                sections,
+                "\n### {}\n\n`{}`, {} triangles, radius {radius:.3}, reference {} rays/pixel (mean standard error {:.4}), eval {}×{}; evaluated in {:.0} s.\n\n| reference | {} |\n|---|{}\n| ![]({rel}{}) |",
+                job.name,
+                job.file.display(),
+                mesh.triangle_count(),
+                a.rays,
+                reference.mean_std_error,
+                w,
+                h,
+                t0.elapsed().as_secs_f64(),
+                variants.iter().map(|v| v.0.as_str()).collect::<Vec<_>>().join(" | "),
+                "---|".repeat(variants.len()),
+                pic("reference"),
+            );
+            for (name, img, _) in results.iter().skip(1) {
+                write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
+                write_error(
+                    &dir.join(pic(&format!("{name}-error"))),
+                    img,
+                    r,
+                    &mask,
+                    w,
+                    h,
+                    a.picture_scale,
+                )?;
+                let _ = write!(sections, " ![]({rel}{}) |", pic(name));
+            }
+            let _ = write!(
+                sections,
+                "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
+            );
+            for (name, _, _) in results.iter().skip(1) {
+                let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
+            }
+            sections.push('\n');
+        }
+    }
+
+    let table = summary_table(&rows);
+    print!("{table}");
+    if let (Some(dir), Some(md)) = (&a.report, &md_path) {
+        let rel = relative_dir(dir, md);
+        write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
+        let mut doc = format!(
+            "# Quality against ray-traced ground truth\n\nGenerated by `{}`.\n\nReference: CPU ray tracing of the scene triangles, cosine-weighted hemisphere, {} rays per pixel, hits within the radius {} (see `crates/obscura-eval`). Metrics over pixels where both the reference and the G-buffer see a surface; the band is the pixels within 2 px of a depth discontinuity (> 5% relative). Bias = mean(estimate − reference): positive means too bright. Times: median wall clock of prepare + AO on {}.\n\n",
+            std::env::args().collect::<Vec<_>>().join(" "),
+            a.rays,
+            match a.falloff {
+                FalloffArg::None => "occlude fully",
+                FalloffArg::Quadratic => "occlude by 1 − t²/R²",
+            },
+            ctx.describe()
+        );
+        doc.push_str(&table);
+        let _ = write!(
+            doc,
+            "\n![quality versus time]({rel}quality-vs-time.svg)\n\n## Views\n"
+        );
+        doc.push_str(&sections);
+        write_text(md, &doc)?;
+        eprintln!("wrote {}", md.display());
+    }
+    if let Some(p) = &a.json {
+        write_text(p, &json(&rows, &info))?;
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// `dir` as seen from the markdown file's folder, with a trailing slash ("" if the same).
+fn relative_dir(dir: &Path, md: &Path) -> String {
+    let base = md.parent().unwrap_or(Path::new(""));
+    match dir.strip_prefix(base) {
+        Ok(r) if r.as_os_str().is_empty() => String::new(),
+        Ok(r) => format!("{}/", r.display()),
+        Err(_) => format!("{}/", dir.display()),
+    }
+}
+
+fn write_text(path: &Path, text: &str) -> Result<()> {
+    let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
+    let r = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    r.with_context(|| format!("cannot write `{}`", path.display()))
+}
+
+/// Box-filters `img` by `scale` (1/scale rounded to an integer factor).
+fn shrink(img: &[[f32; 3]], w: u32, h: u32, scale: f32) -> (Vec<[f32; 3]>, u32, u32) {
+    let f = (1.0 / scale).round().max(1.0) as u32;
+    let (ow, oh) = ((w / f).max(1), (h / f).max(1));
+    let mut out = vec![[0.0; 3]; (ow * oh) as usize];
+    for y in 0..oh {
+        for x in 0..ow {
+            let mut acc = [0.0; 3];
+            for dy in 0..f {
+                for dx in 0..f {
+                    let p = img[((y * f + dy).min(h - 1) * w + (x * f + dx).min(w - 1)) as usize];
+                    for c in 0..3 {
+                        acc[c] += p[c];
+                    }
+                }
+            }
+            out[(y * ow + x) as usize] = acc.map(|v| v / (f * f) as f32);
+        }
+    }
+    (out, ow, oh)
+}
+
+fn to8(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+fn write_gray(path: &Path, img: &[f32], w: u32, h: u32, scale: f32) -> Result<()> {
+    let rgb: Vec<[f32; 3]> = img.iter().map(|v| [*v; 3]).collect();
+    let (s, sw, sh) = shrink(&rgb, w, h, scale);
+    let px: Vec<u8> = s.iter().map(|p| to8(p[0])).collect();
+    save_png(path, &px, sw, sh, image::ExtendedColorType::L8)
+}
+
+/// Signed error heat map: white = exact, red = too bright, blue = too dark (±0.5 saturates),
+/// grey = not compared.
+fn write_error(
+    path: &Path,
+    img: &[f32],
+    reference: &[f32],
+    mask: &[bool],
+    w: u32,
+    h: u32,
+    scale: f32,
+) -> Result<()> {
+    let rgb: Vec<[f32; 3]> = img
+        .iter()
+        .zip(reference)
+        .zip(mask)
+        .map(|((a, b), m)| {
+            if !m {
+                return [0.5; 3];
+            }
+            let e = ((a - b) / 0.5).clamp(-1.0, 1.0);
+            if e >= 0.0 {
+                [1.0, 1.0 - e, 1.0 - e]
+            } else {
+                [1.0 + e, 1.0 + e, 1.0]
+            }
+        })
+        .collect();
+    let (s, sw, sh) = shrink(&rgb, w, h, scale);
+    let px: Vec<u8> = s.iter().flat_map(|p| p.map(to8)).collect();
+    save_png(path, &px, sw, sh, image::ExtendedColorType::Rgb8)
+}
+
+fn summary_table(rows: &[Row]) -> String {
+    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | ms |\n|---|---|---|---|---|---|---|\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} |",
+            r.view,
+            if r.variant.starts_with("white") {
+                r.variant.clone()
+            } else {
+                format!("HBAO {}", r.variant)
+            },
+            r.rmse,
+            r.bias,
+            r.ssim,
+            r.band_rmse,
+            r.ms.map_or("–".to_string(), |m| format!("{m:.1}"))
+        );
+    }
+    s
+}
+
+fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
+    let mut s = String::from("{\n  \"views\": [\n");
+    for (i, (name, radius, se, tris)) in info.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "    {{\"view\": \"{name}\", \"radius\": {radius}, \"reference_mean_std_error\": {se}, \"triangles\": {tris}}}{}",
+            if i + 1 == info.len() { "" } else { "," }
+        );
+    }
+    s.push_str("  ],\n  \"records\": [\n");
+    for (i, r) in rows.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "    {{\"view\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"median_ms\": {}}}{}",
+            r.view,
+            if r.variant.starts_with("white") { "none" } else { "hbao" },
+            r.variant,
+            r.rmse,
+            r.bias,
+            r.ssim,
+            r.band_rmse,
+            r.ms.map_or("null".to_string(), |m| format!("{m:.3}")),
+            if i + 1 == rows.len() { "" } else { "," }
+        );
+    }
+    s.push_str("  ]\n}\n");
+    s
+}
+
+/// Quality (RMSE) against time, one point per view and mode.
+fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
+    let pts: Vec<&Row> = rows.iter().filter(|r| r.ms.is_some()).collect();
+    let (w, h, m) = (560.0, 360.0, 60.0);
+    let tmax = pts.iter().filter_map(|r| r.ms).fold(1e-9, f64::max) * 1.1;
+    let emax = pts.iter().map(|r| r.rmse as f64).fold(1e-9, f64::max) * 1.1;
+    let colors = ["#222222", "#1f77b4", "#e6730f", "#2ca02c", "#9467bd"];
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<rect x=\"{m}\" y=\"20\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>\n",
+        w + 2.0 * m + 140.0,
+        h + m + 30.0
+    );
+    let px = |t: f64| m + t / tmax * w;
+    let py = |e: f64| 20.0 + h - e / emax * h;
+    for k in 0..=4 {
+        let t = tmax * k as f64 / 4.0;
+        let e = emax * k as f64 / 4.0;
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{t:.0}</text>",
+            px(t),
+            20.0 + h + 15.0
+        );
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{e:.3}</text>",
+            m - 4.0,
+            py(e) + 4.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">median ms (prepare + AO)</text>",
+        m + w / 2.0,
+        20.0 + h + 32.0
+    );
+    let _ = writeln!(s, "<text x=\"14\" y=\"{0}\" transform=\"rotate(-90 14 {0})\" text-anchor=\"middle\">RMSE vs ray-traced</text>", 20.0 + h / 2.0);
+    for (vi, (name, _)) in variants.iter().enumerate() {
+        let c = colors[vi % colors.len()];
+        for r in pts.iter().filter(|r| &r.variant == name) {
+            let _ = writeln!(
+                s,
+                "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{c}\"><title>{} {}</title></circle>",
+                px(r.ms.unwrap_or(0.0)),
+                py(r.rmse as f64),
+                r.view,
+                name
+            );
+        }
+        let y = 30.0 + 18.0 * vi as f64;
+        let _ = writeln!(s, "<circle cx=\"{}\" cy=\"{y}\" r=\"4\" fill=\"{c}\"/><text x=\"{}\" y=\"{}\">{name}</text>", m + w + 15.0, m + w + 25.0, y + 4.0);
+    }
+    s.push_str("</svg>\n");
+    s
+}

@@ -1,0 +1,187 @@
+//! Ray-traced ground-truth ambient occlusion over the scene's triangles:
+//! `AO(p) = 1 − (1/π) ∫_Ω W(t(ω)) (n·ω) dω`, with `t(ω)` the distance to the first hit
+//! along ω and `W(t) = 1` for `t < R` (binary visibility within the radius, the usual
+//! definition) or `W(t) = 1 − t²/R²` (HBAO's falloff), 0 beyond R. Cosine-weighted
+//! directions (Malley's method) from a stratified 2D point set with a per-pixel random
+//! rotation (Cranley–Patterson), so the estimate's standard error can be reported.
+
+use crate::bvh::Bvh;
+use glam::{Mat4, Vec3};
+use obscura_scene::{Camera, CameraProjection};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// How a hit at distance t < R occludes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Falloff {
+    /// Any hit within R occludes fully.
+    None,
+    /// A hit at t occludes by `1 − t²/R²` (HBAO's weight).
+    Quadratic,
+}
+
+/// Parameters of the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSettings {
+    /// AO radius in scene units.
+    pub radius: f32,
+    /// Rays per pixel.
+    pub rays: u32,
+    pub falloff: Falloff,
+}
+
+/// The reference image of one view.
+#[derive(Clone, Debug)]
+pub struct ReferenceAo {
+    pub width: u32,
+    pub height: u32,
+    /// AO per pixel, 1 = unoccluded; 1 on sky.
+    pub ao: Vec<f32>,
+    /// Linear view depth per pixel, 0 on sky.
+    pub depth: Vec<f32>,
+    /// Mean over surface pixels of each pixel's standard error.
+    pub mean_std_error: f32,
+}
+
+/// An orthonormal basis around unit `n` (Duff et al. 2017, "Building an Orthonormal
+/// Basis, Revisited").
+fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let s = 1.0f32.copysign(n.z);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        Vec3::new(b, s + n.y * n.y * a, -n.y),
+    )
+}
+
+fn radical_inverse(mut i: u32) -> f32 {
+    i = i.reverse_bits();
+    i as f32 * (1.0 / 4294967296.0)
+}
+
+fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+/// AO at surface point `p` with unit normal `n`, and the standard error of the estimate.
+/// `seed` decorrelates the sample rotation between pixels.
+pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32, f32) {
+    let (t, b) = basis(n);
+    let rot = (
+        hash(seed) as f32 / 4294967296.0,
+        hash(seed ^ 0x9e37_79b9) as f32 / 4294967296.0,
+    );
+    // Offset the origin off the surface, relative to the radius and to float precision
+    // at this distance from the origin.
+    let origin = p + n * (1e-4 * s.radius + 4.0 * f32::EPSILON * p.abs().max_element());
+    let inv_r2 = 1.0 / (s.radius * s.radius);
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for i in 0..s.rays {
+        let u1 = ((i as f32 + 0.5) / s.rays as f32 + rot.0).fract();
+        let u2 = (radical_inverse(i) + rot.1).fract();
+        let r = u1.sqrt();
+        let phi = std::f32::consts::TAU * u2;
+        let dir = t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt();
+        let occ = match bvh.closest(origin, dir, s.radius) {
+            None => 0.0,
+            Some((d, _)) => match s.falloff {
+                Falloff::None => 1.0,
+                Falloff::Quadratic => (1.0 - d * d * inv_r2).max(0.0),
+            },
+        } as f64;
+        sum += occ;
+        sum2 += occ * occ;
+    }
+    let n_rays = s.rays as f64;
+    let mean = sum / n_rays;
+    let var = (sum2 / n_rays - mean * mean).max(0.0);
+    ((1.0 - mean) as f32, (var / n_rays).sqrt() as f32)
+}
+
+/// Traces AO for every pixel of `camera`'s view at `width` × `height`, with primary rays
+/// through pixel centres (the rasterizer's sampling points). `progress(done_rows, rows)`
+/// is called as rows finish.
+pub fn trace_view(
+    bvh: &Bvh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    s: &TraceSettings,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> ReferenceAo {
+    let aspect = width as f32 / height as f32;
+    let scale = camera.obscura_projection(aspect).ndc_to_view_scale();
+    let view_to_world: Mat4 = camera.view_matrix().inverse();
+    let world_to_view = camera.view_matrix();
+    let ortho = matches!(camera.projection, CameraProjection::Orthographic { .. });
+    let done = AtomicUsize::new(0);
+    let rows: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let mut ao = vec![1.0; width as usize];
+            let mut depth = vec![0.0; width as usize];
+            let mut err = vec![-1.0; width as usize];
+            for x in 0..width {
+                let ndc = [
+                    (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                ];
+                let (o_view, d_view) = if ortho {
+                    (
+                        Vec3::new(ndc[0] * scale[0], ndc[1] * scale[1], 0.0),
+                        Vec3::NEG_Z,
+                    )
+                } else {
+                    (
+                        Vec3::ZERO,
+                        Vec3::new(ndc[0] * scale[0], ndc[1] * scale[1], -1.0),
+                    )
+                };
+                let o = view_to_world.transform_point3(o_view);
+                let d = view_to_world.transform_vector3(d_view);
+                let Some((t, tri)) = bvh.closest(o, d, f32::INFINITY) else {
+                    continue;
+                };
+                let p = o + d * t;
+                let view_depth = -world_to_view.transform_point3(p).z;
+                if view_depth < camera.near || view_depth > camera.far {
+                    continue; // clipped by the rasterizer too
+                }
+                let mut n = bvh.normal(tri).normalize_or_zero();
+                if n.dot(d) > 0.0 {
+                    n = -n;
+                }
+                let (a, e) = ao_at(bvh, p, n, s, y * width + x);
+                ao[x as usize] = a;
+                depth[x as usize] = view_depth;
+                err[x as usize] = e;
+            }
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(k, height as usize);
+            (ao, depth, err)
+        })
+        .collect();
+    let mut out = ReferenceAo {
+        width,
+        height,
+        ao: Vec::with_capacity((width * height) as usize),
+        depth: Vec::with_capacity((width * height) as usize),
+        mean_std_error: 0.0,
+    };
+    let (mut se, mut n) = (0.0f64, 0usize);
+    for (a, d, e) in rows {
+        out.ao.extend(a);
+        out.depth.extend(d);
+        for v in e.into_iter().filter(|v| *v >= 0.0) {
+            se += v as f64;
+            n += 1;
+        }
+    }
+    out.mean_std_error = if n == 0 { 0.0 } else { (se / n as f64) as f32 };
+    out
+}
