@@ -5,11 +5,12 @@
 //! randomized single pass.
 
 use crate::output::check_png_path;
-use crate::render::NormalSource;
+use crate::render::{EstimatorArg, NormalSource};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding, Timing,
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
+    NormalEncoding, Timing,
 };
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
@@ -27,9 +28,13 @@ pub struct BenchArgs {
     /// Timed rounds after one warm-up round; each round runs every variant once.
     #[arg(long, default_value_t = 3)]
     pub runs: u32,
-    /// HBAO directions (1..=32).
-    #[arg(long, default_value_t = AoOptions::default().directions)]
-    pub directions: u32,
+    /// AO estimator for every variant.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
+    pub estimator: EstimatorArg,
+    /// Directions (HBAO) or slices (GTAO) (1..=32).
+    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    #[arg(long)]
+    pub directions: Option<u32>,
     /// Steps per direction (1..=32).
     #[arg(long, default_value_t = AoOptions::default().steps)]
     pub steps: u32,
@@ -55,7 +60,7 @@ struct Record {
     ratio: f64,
 }
 
-fn variants(directions: u32, steps: u32) -> Vec<(String, AoOptions)> {
+fn variants(estimator: Estimator, directions: u32, steps: u32) -> Vec<(String, AoOptions)> {
     let mut v = Vec::new();
     for mode in AoMode::ALL {
         for fused in [true, false] {
@@ -66,6 +71,7 @@ fn variants(directions: u32, steps: u32) -> Vec<(String, AoOptions)> {
             v.push((
                 name,
                 AoOptions {
+                    estimator,
                     directions,
                     steps,
                     mode,
@@ -115,7 +121,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
-    let variants = variants(a.directions, a.steps);
+    let estimator: Estimator = a.estimator.into();
+    let directions = a.directions.unwrap_or(estimator.default_directions());
+    let variants = variants(estimator, directions, a.steps);
     for (_, o) in &variants {
         o.validate()?;
     }
@@ -271,9 +279,11 @@ fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
 fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs) -> String {
     let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
     let mut s = format!(
-        "{{\n  \"adapter\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"runs\": {},\n  \"records\": [\n",
+        "{{\n  \"adapter\": \"{}\",\n  \"estimator\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"runs\": {},\n  \"records\": [\n",
         esc(&ctx.describe()),
-        a.directions,
+        Estimator::from(a.estimator).name(),
+        a.directions
+            .unwrap_or(Estimator::from(a.estimator).default_directions()),
         a.steps,
         a.runs
     );

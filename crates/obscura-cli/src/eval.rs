@@ -3,12 +3,13 @@
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 
 use crate::output::{check_png_path, save_png};
-use crate::render::{ModeArg, NormalSource};
+use crate::render::{EstimatorArg, ModeArg, NormalSource};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
+    NormalEncoding,
 };
 use obscura_eval::{cache, metrics, views, Bvh, Falloff, TraceSettings};
 use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
@@ -57,7 +58,17 @@ pub struct EvalArgs {
     /// How the reference weighs a hit within the radius.
     #[arg(long, value_enum, default_value_t = FalloffArg::None)]
     pub falloff: FalloffArg,
-    /// Pass layouts to evaluate (comma-separated).
+    /// Estimators to evaluate (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "hbao,gtao")]
+    pub estimators: Vec<EstimatorArg>,
+    /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
+    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    #[arg(long)]
+    pub directions: Option<u32>,
+    /// Steps per direction (1..=32).
+    #[arg(long, default_value_t = AoOptions::default().steps)]
+    pub steps: u32,
+    /// Pass layouts to evaluate (comma-separated); every estimator runs in every mode.
     #[arg(
         long,
         value_enum,
@@ -209,8 +220,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             bail!("--radius must be a finite number > 0 (got {r})");
         }
     }
-    if a.modes.is_empty() {
-        bail!("--modes needs at least one mode");
+    if a.modes.is_empty() || a.estimators.is_empty() {
+        bail!("--modes and --estimators need at least one value each");
     }
     let jobs = jobs(a)?;
     if let Some(dir) = &a.report {
@@ -229,14 +240,18 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
     let variants: Vec<(String, AoOptions)> = a
-        .modes
+        .estimators
         .iter()
-        .map(|m| {
-            let mode: AoMode = (*m).into();
+        .flat_map(|e| a.modes.iter().map(move |m| (*e, *m)))
+        .map(|(e, m)| {
+            let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
             (
-                mode.name().to_string(),
+                format!("{} {}", estimator.name(), mode.name()),
                 AoOptions {
+                    estimator,
                     mode,
+                    directions: a.directions.unwrap_or(estimator.default_directions()),
+                    steps: a.steps,
                     ..Default::default()
                 },
             )
@@ -390,7 +405,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
 
         if let (Some(dir), Some(md)) = (&a.report, &md_path) {
             let rel = relative_dir(dir, md);
-            let pic = |stem: &str| format!("{}-{}.png", job.name, stem);
+            let pic = |stem: &str| format!("{}-{}.png", job.name, stem.replace(' ', "-"));
             write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
             let _ = write!(
                 sections,
@@ -553,11 +568,7 @@ fn summary_table(rows: &[Row]) -> String {
             s,
             "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} |",
             r.view,
-            if r.variant.starts_with("white") {
-                r.variant.clone()
-            } else {
-                format!("HBAO {}", r.variant)
-            },
+            r.variant,
             r.rmse,
             r.bias,
             r.ssim,
@@ -583,8 +594,8 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             s,
             "    {{\"view\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"median_ms\": {}}}{}",
             r.view,
-            if r.variant.starts_with("white") { "none" } else { "hbao" },
-            r.variant,
+            if r.ms.is_none() { "none" } else { r.variant.split(' ').next().unwrap_or("") },
+            if r.ms.is_none() { "" } else { r.variant.split(' ').nth(1).unwrap_or("") },
             r.rmse,
             r.bias,
             r.ssim,

@@ -5,7 +5,8 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use obscura::{
-    layout, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+    layout, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
+    NormalEncoding,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
@@ -34,6 +35,24 @@ impl From<ModeArg> for AoMode {
             ModeArg::Randomized => AoMode::Randomized,
             ModeArg::Deinterleaved2 => AoMode::Deinterleaved2,
             ModeArg::Deinterleaved4 => AoMode::Deinterleaved4,
+        }
+    }
+}
+
+/// The AO estimator (see `obscura::Estimator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EstimatorArg {
+    /// Horizon-based AO (Bavoil et al. 2008).
+    Hbao,
+    /// Ground-Truth AO (Jimenez et al. 2016).
+    Gtao,
+}
+
+impl From<EstimatorArg> for Estimator {
+    fn from(e: EstimatorArg) -> Self {
+        match e {
+            EstimatorArg::Hbao => Estimator::Hbao,
+            EstimatorArg::Gtao => Estimator::Gtao,
         }
     }
 }
@@ -91,14 +110,18 @@ pub struct RenderArgs {
     /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
     #[arg(long)]
     pub radius: Option<f32>,
-    /// HBAO directions per pixel (1..=32).
-    #[arg(long, default_value_t = AoOptions::default().directions)]
-    pub directions: u32,
+    /// AO estimator.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
+    pub estimator: EstimatorArg,
+    /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
+    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    #[arg(long)]
+    pub directions: Option<u32>,
     /// Steps per direction (1..=32).
     #[arg(long, default_value_t = AoOptions::default().steps)]
     pub steps: u32,
     /// AO pass layout: deinterleaved modes split the image into N×N layers (seed 000).
-    #[arg(long, value_enum, default_value_t = ModeArg::Deinterleaved4)]
+    #[arg(long, value_enum, default_value_t = ModeArg::Deinterleaved2)]
     pub mode: ModeArg,
     /// Deinterleaved modes: run the split and merge as separate full-resolution passes
     /// instead of fusing them into the prepare and AO passes (for measurement).
@@ -170,7 +193,10 @@ fn check_args(a: &RenderArgs) -> Result<()> {
 
 fn options(a: &RenderArgs) -> AoOptions {
     AoOptions {
-        directions: a.directions,
+        estimator: a.estimator.into(),
+        directions: a
+            .directions
+            .unwrap_or(Estimator::from(a.estimator).default_directions()),
         steps: a.steps,
         mode: a.mode.into(),
         fused: !a.unfused,
@@ -299,7 +325,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     };
     ao.validate(&input, &params)?;
     eprintln!(
-        "ao: HBAO {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
+        "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
+        options.estimator.name(),
         options.directions,
         options.steps,
         options.samples_per_pixel(),

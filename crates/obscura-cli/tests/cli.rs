@@ -259,22 +259,23 @@ fn eval_writes_report_json_and_caches_the_reference() {
     assert!(out.status.success(), "{err}");
     assert!(err.contains("mean standard error"), "{err}");
     let md = std::fs::read_to_string(report.join("index.md")).unwrap();
-    for m in ["randomized", "deinterleaved2", "deinterleaved4"] {
-        assert!(md.contains(&format!("HBAO {m}")), "{md}");
-        let pic = image::open(report.join(format!("cornell-{m}-error.png"))).unwrap();
-        assert_eq!(
-            (pic.width(), pic.height()),
-            (32, 20),
-            "pictures at half size"
-        );
+    for e in ["hbao", "gtao"] {
+        for m in ["randomized", "deinterleaved2", "deinterleaved4"] {
+            assert!(md.contains(&format!("| {e} {m} |")), "{md}");
+            let pic = image::open(report.join(format!("cornell-{e}-{m}-error.png"))).unwrap();
+            assert_eq!(
+                (pic.width(), pic.height()),
+                (32, 20),
+                "pictures at half size"
+            );
+        }
     }
     assert!(report.join("quality-vs-time.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
-    assert_eq!(
-        j.matches("\"view\": \"cornell\", \"estimator\"").count(),
-        4,
-        "{j}"
-    );
+    // White baseline + 2 estimators × 3 modes.
+    let records = j.matches("\"view\": \"cornell\", \"estimator\"").count();
+    assert_eq!(records, 7, "{j}");
+    assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 3, "{j}");
     // The second run finds the reference in the cache.
     let again = obscura(&args);
     assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));

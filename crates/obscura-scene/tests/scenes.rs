@@ -3,7 +3,8 @@
 //! beside the repository (as on every developer machine and in CI) and fails without it.
 
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, GpuContext, NormalEncoding,
+    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
+    NormalEncoding,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh, SceneError};
 use std::path::{Path, PathBuf};
@@ -183,30 +184,40 @@ fn deinterleaved_ao_matches_randomized_on_the_default_scene() {
     let mesh = default_scene::mesh();
     let cam = default_scene::camera();
     let (w, h) = (640, 360);
-    let run = |mode| {
-        let o = AoOptions {
-            mode,
-            ..Default::default()
+    for estimator in Estimator::ALL {
+        let run = |mode| {
+            let o = AoOptions {
+                mode,
+                estimator,
+                directions: estimator.default_directions(),
+                ..Default::default()
+            };
+            render_with(&mesh, &cam, w, h, 1.0, o).1
         };
-        render_with(&mesh, &cam, w, h, 1.0, o).1
-    };
-    let base = run(AoMode::Randomized);
-    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
-        let ao = run(mode);
-        let n = ao.len() as f32;
-        let bias = ao.iter().zip(&base).map(|(a, b)| a - b).sum::<f32>() / n;
-        let rmse = (ao
-            .iter()
-            .zip(&base)
-            .map(|(a, b)| (a - b).powi(2))
-            .sum::<f32>()
-            / n)
-            .sqrt();
-        eprintln!("{mode:?}: RMSE {rmse:.4}, bias {bias:.4} against randomized");
-        // Stated tolerance: RMSE <= 0.03 and |mean bias| <= 0.005 (AO units, [0, 1]).
-        assert!(
-            rmse <= 0.03 && bias.abs() <= 0.005,
-            "{mode:?}: RMSE {rmse}, bias {bias}"
-        );
+        let base = run(AoMode::Randomized);
+        // Stated tolerances (AO units): HBAO RMSE ≤ 0.03, |bias| ≤ 0.005 (measured
+        // 0.009 / 0.014 RMSE); GTAO with 4 slices RMSE ≤ 0.045, |bias| ≤ 0.01 (measured
+        // 0.024 / 0.033).
+        let (max_rmse, max_bias) = match estimator {
+            Estimator::Hbao => (0.03, 0.005),
+            _ => (0.045, 0.01),
+        };
+        for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+            let ao = run(mode);
+            let n = ao.len() as f32;
+            let bias = ao.iter().zip(&base).map(|(a, b)| a - b).sum::<f32>() / n;
+            let rmse = (ao
+                .iter()
+                .zip(&base)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f32>()
+                / n)
+                .sqrt();
+            eprintln!("{estimator:?} {mode:?}: RMSE {rmse:.4}, bias {bias:.4} against randomized");
+            assert!(
+                rmse <= max_rmse && bias.abs() <= max_bias,
+                "{estimator:?} {mode:?}: RMSE {rmse}, bias {bias}"
+            );
+        }
     }
 }

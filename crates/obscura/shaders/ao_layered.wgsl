@@ -5,7 +5,6 @@
 // fetch neighbouring texels. Composed with an estimator and an ao_store_*.wgsl.
 
 override SPLIT: u32 = 4u;
-override LATTICE: u32 = SPLIT;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var prepared_in: texture_2d_array<f32>;
@@ -31,5 +30,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pattern = frame.patterns[corner.x + PATTERN_DIM * corner.y];
     let centre = textureLoad(prepared_in, gid.xy, layer, 0);
-    store_ao(full, gid.xy, layer, hbao(vec2<i32>(full), centre, pattern));
+    store_ao(full, gid.xy, layer, estimate(vec2<i32>(full), centre, pattern));
 }

@@ -1,9 +1,9 @@
 // Horizon-based ambient occlusion (Bavoil, Sainz & Dimitrov, "Image-Space Horizon-Based
 // Ambient Occlusion", SIGGRAPH 2008): the estimator only. It knows nothing of how pixels
 // are laid out: the entry point it is composed with (ao_full.wgsl or ao_layered.wgsl)
-// provides `LATTICE` (spacing of the pixels it can sample: 1, or N for N x N layers),
-// `snap_offset` (screen offset -> integer pixel offset on that lattice) and
-// `sample_depth` (linear depth of a full-resolution pixel).
+// provides `snap_offset` (screen offset -> integer pixel offset on its sampling lattice:
+// any pixel, or multiples of N for N x N layers) and `sample_depth` (linear depth of a
+// full-resolution pixel).
 //
 // For each of DIRECTIONS screen-space directions, march STEPS samples out to the radius.
 // A sample's elevation above the tangent plane is sin(e) = dot(n, v)/|v|; whenever it
@@ -12,12 +12,13 @@
 // farther than R, sky and off-screen samples do not occlude.
 //
 // Output: AO in [0, 1], 1 = unoccluded. CPU mirror: src/reference.rs, `hbao_pixel`.
+// Every estimator fragment defines `estimate` with this signature.
 
 override DIRECTIONS: u32 = 8u;
 override STEPS: u32 = 4u;
 
 // Pixel `p` (full resolution), its prepared value vec4(d, n), its pattern (cos, sin, offset, _).
-fn hbao(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
+fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let d = centre.x;
     if d <= 0.0 {
         return 1.0;
@@ -37,7 +38,9 @@ fn hbao(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let base = vec2<f32>(cos(a), sin(a));
         let dir = vec2<f32>(base.x * pattern.x - base.y * pattern.y, base.x * pattern.y + base.y * pattern.x);
         // The first sample lies one lattice step out (one pixel of the layer being marched).
-        var ray = pattern.z * step_px + f32(LATTICE);
+        // Marching starts one pixel out in every mode. (Starting one lattice step out in
+        // the N x N modes raised their error against ray-traced AO: docs/quality.md.)
+        var ray = pattern.z * step_px + 1.0;
         var sin_h = frame.sin_bias;
         for (var s = 0u; s < STEPS; s++) {
             let q = p + snap_offset(dir * ray);

@@ -162,11 +162,11 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(2, UNFILTERED, D2),
             storage_entry(3, PREPARED_FORMAT, dim(layers)),
         ],
-        Pass::AoFull => vec![
+        Pass::AoFull { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
         ],
-        Pass::AoLayered { merge } => vec![
+        Pass::AoLayered { merge, .. } => vec![
             texture_entry(1, UNFILTERED, D2_ARRAY),
             storage_entry(2, AO_FORMAT, dim(!merge)),
         ],
@@ -310,12 +310,19 @@ impl Ao {
                 )
             })
         });
+        let estimator = options.estimator;
         let later_passes = match (layered, options.fused) {
-            (false, _) => vec![Pass::AoFull],
-            (true, true) => vec![Pass::AoLayered { merge: true }],
+            (false, _) => vec![Pass::AoFull { estimator }],
+            (true, true) => vec![Pass::AoLayered {
+                merge: true,
+                estimator,
+            }],
             (true, false) => vec![
                 Pass::Deinterleave,
-                Pass::AoLayered { merge: false },
+                Pass::AoLayered {
+                    merge: false,
+                    estimator,
+                },
                 Pass::Interleave,
             ],
         };
@@ -486,11 +493,11 @@ impl Ao {
             .enumerate()
             .filter_map(|(i, c)| {
                 let (views, dispatch): (Vec<(u32, &wgpu::TextureView)>, _) = match c.pass {
-                    Pass::AoFull => (
+                    Pass::AoFull { .. } => (
                         vec![(1, prepared.as_ref()?), (2, &output_view)],
                         full_dispatch,
                     ),
-                    Pass::AoLayered { merge } => (
+                    Pass::AoLayered { merge, .. } => (
                         vec![
                             (1, prepared_layers.as_ref()?),
                             (

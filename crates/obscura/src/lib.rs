@@ -30,4 +30,4 @@ pub use ao::{Ao, AoInput, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
-pub use settings::{AoMode, AoOptions, AoParams};
+pub use settings::{AoMode, AoOptions, AoParams, Estimator};

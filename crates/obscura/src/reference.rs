@@ -115,7 +115,7 @@ pub fn hbao_pixel(
             bc * pattern[0] - bs * pattern[1],
             bc * pattern[1] + bs * pattern[0],
         ];
-        let mut ray = pattern[2] * step_px + lattice as f32;
+        let mut ray = pattern[2] * step_px + 1.0;
         let mut sin_h = f.sin_bias;
         for _ in 0..steps {
             // WGSL's round() is round-half-to-even.
@@ -147,11 +147,121 @@ pub fn hbao_pixel(
     (1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0)
 }
 
-/// HBAO over the whole viewport in `mode`, computed per full-resolution pixel: the
+/// GTAO of one pixel; mirrors `estimate` in shaders/gtao.wgsl.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "mirrors the shader function's inputs one to one"
+)]
+pub fn gtao_pixel(
+    f: &FrameUniforms,
+    directions: u32,
+    steps: u32,
+    prepared: &[Vec4],
+    p: [i32; 2],
+    pattern: [f32; 4],
+    lattice: u32,
+) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let width = f.size[0] as i32;
+    let centre_v = prepared[(p[1] * width + p[0]) as usize];
+    let d = centre_v.x;
+    if d <= 0.0 {
+        return 1.0;
+    }
+    let normal = Vec3::new(centre_v.y, centre_v.z, centre_v.w);
+    let pos = f.view_position(centre(p), d);
+    let v = if f.perspective != 0 {
+        (-pos).normalize()
+    } else {
+        Vec3::Z
+    };
+    let mut radius_px = f.radius * f.radius_to_px;
+    if f.perspective != 0 {
+        radius_px /= d;
+    }
+    radius_px = radius_px.min(f.max_radius_px);
+    let step_px = radius_px / (steps + 1) as f32;
+    let arc = |h: f32, n: f32, cos_n: f32| (cos_n + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25;
+    let l = lattice as f32;
+    let mut visibility = 0.0;
+    let mut weights = 0.0;
+    for i in 0..directions {
+        let a = i as f32 * (PI / directions as f32);
+        let (bs, bc) = a.sin_cos();
+        let dir = [
+            bc * pattern[0] - bs * pattern[1],
+            bc * pattern[1] + bs * pattern[0],
+        ];
+        let dir3 = Vec3::new(dir[0], -dir[1], 0.0);
+        let ortho = dir3 - dir3.dot(v) * v;
+        let axis = ortho.cross(v).normalize();
+        let ddir3 = Vec3::new(-dir[1], -dir[0], 0.0);
+        let dortho = ddir3 - ddir3.dot(v) * v;
+        let weight = dortho.dot(axis).abs() / ortho.length();
+        weights += weight;
+        let proj_n = normal - axis * normal.dot(axis);
+        let proj_len = proj_n.length();
+        if proj_len < 1e-6 {
+            visibility += weight;
+            continue;
+        }
+        let cos_n = (proj_n.dot(v) / proj_len).clamp(-1.0, 1.0);
+        // WGSL's sign(0) is 0 (f32::signum(0.0) is 1).
+        let sgn = {
+            let x = ortho.dot(proj_n);
+            if x > 0.0 {
+                1.0
+            } else if x < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        };
+        let n = sgn * cos_n.acos();
+        let mut hc = [(n + FRAC_PI_2).cos(), (n - FRAC_PI_2).cos()];
+        let mut ray = pattern[2] * step_px + 1.0;
+        for _ in 0..steps {
+            let off = [
+                (dir[0] * ray / l).round_ties_even() as i32 * lattice as i32,
+                (dir[1] * ray / l).round_ties_even() as i32 * lattice as i32,
+            ];
+            ray += step_px;
+            for (side, h) in hc.iter_mut().enumerate() {
+                let q = if side == 0 {
+                    [p[0] + off[0], p[1] + off[1]]
+                } else {
+                    [p[0] - off[0], p[1] - off[1]]
+                };
+                if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+                    continue;
+                }
+                let sd = prepared[(q[1] * width + q[0]) as usize].x;
+                if sd <= 0.0 {
+                    continue;
+                }
+                let full = f.view_position(centre(q), sd) - pos;
+                let r2 = full.dot(full) * f.inv_radius2;
+                let w = full - axis * full.dot(axis);
+                if r2 >= 1.0 || w.dot(w) <= 0.0 {
+                    continue;
+                }
+                *h = h.max((w.dot(v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
+            }
+        }
+        let h0 = n + (hc[0].acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
+        let h1 = n + (-hc[1].acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
+        visibility += weight * proj_len * (arc(h0, n, cos_n) + arc(h1, n, cos_n));
+    }
+    let per_slice = directions as f32 * visibility / weights;
+    (1.0 - (directions as f32 - per_slice) * f.ao_scale).clamp(0.0, 1.0)
+}
+
+/// AO over the whole viewport with `options`' estimator in its mode, computed per
+/// full-resolution pixel: the
 /// randomized pass takes the pattern of the pixel's place in the 4×4 tile; an N×N
 /// deinterleaved mode takes the pattern of the pixel's layer and samples on the N-pixel
 /// lattice. The GPU's deinterleaved layout must give exactly this.
-pub fn hbao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<f32> {
+pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<f32> {
     let n = options.mode.split();
     let (dim, lattice) = if n == 1 {
         (crate::jitter::PATTERN_DIM, 1)
@@ -162,7 +272,11 @@ pub fn hbao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) ->
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
             let pattern = f.patterns[crate::jitter::pattern_index(x, y, dim)];
-            out.push(hbao_pixel(
+            let pixel = match options.estimator {
+                crate::Estimator::Hbao => hbao_pixel,
+                crate::Estimator::Gtao => gtao_pixel,
+            };
+            out.push(pixel(
                 f,
                 options.directions,
                 options.steps,

@@ -4,6 +4,7 @@
 
 use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
 use crate::uniforms::FrameUniforms;
+use crate::Estimator;
 
 /// Compute workgroup edge: every pass runs `WORKGROUP_SIZE × WORKGROUP_SIZE` invocations.
 pub const WORKGROUP_SIZE: u32 = 8;
@@ -34,10 +35,10 @@ pub enum Pass {
         reconstruct: bool,
     },
     /// The randomized single full-resolution AO pass.
-    AoFull,
+    AoFull { estimator: Estimator },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
     /// else keep the result in layers for [`Pass::Interleave`].
-    AoLayered { merge: bool },
+    AoLayered { merge: bool, estimator: Estimator },
     /// Full-resolution prepared buffer → layers (unfused split).
     Deinterleave,
     /// AO layers → full resolution (unfused merge).
@@ -59,13 +60,13 @@ impl Pass {
                 }
             }
         }
-        v.extend([
-            Pass::AoFull,
-            Pass::AoLayered { merge: true },
-            Pass::AoLayered { merge: false },
-            Pass::Deinterleave,
-            Pass::Interleave,
-        ]);
+        for estimator in Estimator::ALL {
+            v.push(Pass::AoFull { estimator });
+            for merge in [true, false] {
+                v.push(Pass::AoLayered { merge, estimator });
+            }
+        }
+        v.extend([Pass::Deinterleave, Pass::Interleave]);
         v
     }
 
@@ -92,9 +93,28 @@ impl Pass {
                 layers: true,
                 ..
             } => "prepare_float_split",
-            Pass::AoFull => "hbao",
-            Pass::AoLayered { merge: true } => "hbao_layers_merge",
-            Pass::AoLayered { merge: false } => "hbao_layers",
+            Pass::AoFull {
+                estimator: Estimator::Hbao,
+            } => "hbao",
+            Pass::AoFull {
+                estimator: Estimator::Gtao,
+            } => "gtao",
+            Pass::AoLayered {
+                merge: true,
+                estimator: Estimator::Hbao,
+            } => "hbao_layers_merge",
+            Pass::AoLayered {
+                merge: false,
+                estimator: Estimator::Hbao,
+            } => "hbao_layers",
+            Pass::AoLayered {
+                merge: true,
+                estimator: Estimator::Gtao,
+            } => "gtao_layers_merge",
+            Pass::AoLayered {
+                merge: false,
+                estimator: Estimator::Gtao,
+            } => "gtao_layers",
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
         }
@@ -102,7 +122,10 @@ impl Pass {
 
     /// The WGSL fragments of the pass, in order (after the prelude and common.wgsl).
     fn fragments(self) -> Vec<&'static str> {
-        const ESTIMATOR: &str = include_str!("../shaders/hbao.wgsl");
+        let estimator_source = |e: Estimator| match e {
+            Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
+            Estimator::Gtao => include_str!("../shaders/gtao.wgsl"),
+        };
         const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
         const STORE_AO_FULL: &str = include_str!("../shaders/ao_store_full.wgsl");
@@ -129,13 +152,13 @@ impl Pass {
                 },
                 include_str!("../shaders/prepare.wgsl"),
             ],
-            Pass::AoFull => vec![
-                ESTIMATOR,
+            Pass::AoFull { estimator } => vec![
+                estimator_source(estimator),
                 STORE_AO_FULL,
                 include_str!("../shaders/ao_full.wgsl"),
             ],
-            Pass::AoLayered { merge } => vec![
-                ESTIMATOR,
+            Pass::AoLayered { merge, estimator } => vec![
+                estimator_source(estimator),
                 if merge {
                     STORE_AO_FULL
                 } else {
@@ -175,7 +198,7 @@ impl Pass {
             Pass::Prepare { layers: true, .. } | Pass::Deinterleave | Pass::Interleave => {
                 vec![split]
             }
-            Pass::AoFull => estimator.to_vec(),
+            Pass::AoFull { .. } => estimator.to_vec(),
             Pass::AoLayered { .. } => [&estimator[..], &[split]].concat(),
         }
     }

@@ -34,7 +34,8 @@ crate::gpu_struct! {
         pub max_radius_px: f32,
         /// sin(tangent bias angle).
         pub sin_bias: f32,
-        /// strength / (directions · (1 − sin_bias)): maps summed horizon occlusion to [0, 1].
+        /// Maps the estimator's summed occlusion to [0, 1]: HBAO strength / (directions ·
+        /// (1 − sin_bias)); GTAO strength / directions.
         pub ao_scale: f32,
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
@@ -82,7 +83,12 @@ impl FrameUniforms {
             radius_to_px: viewport.height as f32 / (2.0 * scale[1]),
             max_radius_px: params.max_radius_px,
             sin_bias,
-            ao_scale: params.strength / (options.directions as f32 * (1.0 - sin_bias)),
+            ao_scale: match options.estimator {
+                crate::Estimator::Hbao => {
+                    params.strength / (options.directions as f32 * (1.0 - sin_bias))
+                }
+                crate::Estimator::Gtao => params.strength / options.directions as f32,
+            },
             patterns: pattern_table(options.directions),
         })
     }

@@ -3,7 +3,7 @@
 
 use glam::{Vec3, Vec4};
 use obscura::{
-    layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error,
+    layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error, Estimator,
     GpuContext, Projection, Timing, Viewport,
 };
 use std::sync::{Mutex, OnceLock};
@@ -282,16 +282,23 @@ fn randomized() -> AoOptions {
     }
 }
 
-/// Every mode, deinterleaved ones both fused and unfused.
+/// Every estimator in every mode, deinterleaved ones both fused and unfused.
 fn all_variants() -> Vec<AoOptions> {
-    let mut v = vec![randomized()];
-    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
-        for fused in [true, false] {
-            v.push(AoOptions {
-                mode,
-                fused,
-                ..Default::default()
-            });
+    let mut v = Vec::new();
+    for estimator in Estimator::ALL {
+        v.push(AoOptions {
+            estimator,
+            ..randomized()
+        });
+        for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+            for fused in [true, false] {
+                v.push(AoOptions {
+                    estimator,
+                    mode,
+                    fused,
+                    ..Default::default()
+                });
+            }
         }
     }
     v
@@ -336,7 +343,7 @@ fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str
             options,
             &params,
         );
-        let cpu = reference::hbao(&r.frame, &options, &prepared.prepared);
+        let cpu = reference::ao(&r.frame, &options, &prepared.prepared);
         let diffs: Vec<f32> = r.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
         let close = diffs.iter().filter(|d| **d <= 2e-3).count();
         let max = diffs.iter().cloned().fold(0.0, f32::max);
@@ -357,7 +364,7 @@ fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str
     }
     // Fused and unfused split/merge do the same work: bit-identical results.
     for pair in by_mode.windows(2) {
-        if pair[0].0.mode == pair[1].0.mode {
+        if pair[0].0.mode == pair[1].0.mode && pair[0].0.estimator == pair[1].0.estimator {
             assert_eq!(pair[0].1, pair[1].1, "{what}: fused and unfused differ");
         }
     }
@@ -516,7 +523,10 @@ fn planes_facing_or_tilted_are_unoccluded() {
             Vec3::new(60f32.to_radians().sin(), 0.0, 60f32.to_radians().cos()),
         ),
     ] {
-        for mode in AoMode::ALL {
+        for (estimator, mode) in Estimator::ALL
+            .into_iter()
+            .flat_map(|e| AoMode::ALL.map(|m| (e, m)))
+        {
             let raw = ray_cast(&p, w, h, &[(Vec3::new(0.0, 0.0, -5.0), normal)], &[]);
             let r = run_ao(
                 &raw,
@@ -527,12 +537,26 @@ fn planes_facing_or_tilted_are_unoccluded() {
                 None,
                 AoOptions {
                     mode,
+                    estimator,
                     ..Default::default()
                 },
                 &params,
             );
             let min = r.ao.iter().cloned().fold(1.0, f32::min);
-            assert!(min > 0.999, "{mode:?} {name}: min AO {min}");
+            let mean = r.ao.iter().sum::<f32>() / r.ao.len() as f32;
+            // HBAO measures elevation above the tangent plane: exactly 0 on a plane.
+            // GTAO measures horizons in each slice plane; samples snapped to pixels (or to
+            // the N-pixel lattice) lie slightly off it, where a tilted plane rises above its
+            // in-slice horizon. Stated tolerance: min > 0.8, mean > 0.98 (4 slices on the 4×4
+            // lattice is the worst: 0.84 / 0.984 measured; 8 randomized slices 0.97 / 0.998).
+            let (min_ok, mean_ok) = match estimator {
+                Estimator::Gtao => (0.8, 0.98),
+                _ => (0.999, 0.999),
+            };
+            assert!(
+                min > min_ok && mean > mean_ok,
+                "{estimator:?} {mode:?} {name}: min {min}, mean {mean}"
+            );
         }
     }
 }
@@ -540,12 +564,14 @@ fn planes_facing_or_tilted_are_unoccluded() {
 #[test]
 fn crease_darkens_monotonically_toward_the_corner() {
     let _g = lock();
-    for mode in AoMode::ALL {
-        crease_check(mode);
+    for estimator in Estimator::ALL {
+        for mode in AoMode::ALL {
+            crease_check(mode, estimator);
+        }
     }
 }
 
-fn crease_check(mode: AoMode) {
+fn crease_check(mode: AoMode, estimator: Estimator) {
     let (w, h) = (128, 128);
     let p = persp(w, h);
     // Two walls at 45° to the view axis meet in a vertical 90° concave crease at
@@ -577,6 +603,7 @@ fn crease_check(mode: AoMode) {
             directions: 8,
             steps: 6,
             mode,
+            estimator,
             ..Default::default()
         },
         &params,
@@ -600,12 +627,12 @@ fn crease_check(mode: AoMode) {
             // Nearer the corner must be darker (or equal within 0.005 of averaging noise).
             assert!(
                 pair[0] <= pair[1] + 0.005,
-                "{mode:?} not monotonic: {side:?}"
+                "{estimator:?} {mode:?} not monotonic: {side:?}"
             );
         }
         assert!(
             side[0] < side[side.len() - 1] - 0.1,
-            "{mode:?} corner not darker: {side:?}"
+            "{estimator:?} {mode:?} corner not darker: {side:?}"
         );
     }
 }
@@ -661,32 +688,48 @@ fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
             assert_eq!(r.ao[i], 1.0);
         }
     }
-    // A plane with holes of invalid depth is as unoccluded as one without.
-    let mut plane = vec![4.0f32; (w * h) as usize];
-    for (i, d) in plane.iter_mut().enumerate() {
+    // A plane with holes of invalid depth is never darker than the same plane without
+    // them, for every estimator (holes are missing data, not occluders).
+    let solid = vec![4.0f32; (w * h) as usize];
+    let mut holed = solid.clone();
+    for (i, d) in holed.iter_mut().enumerate() {
         if i % 13 == 0 {
             *d = [f32::NAN, f32::NEG_INFINITY, -1.0, 0.0][i % 4];
         }
     }
-    let r = run_ao(
-        &plane,
-        w,
-        h,
-        p,
-        DepthConvention::LinearView,
-        None,
-        randomized(),
-        &params,
-    );
-    let worst =
-        r.ao.iter()
-            .enumerate()
-            .fold((0, 1.0f32), |m, (i, &a)| if a < m.1 { (i, a) } else { m });
-    assert!(
-        worst.1 > 0.999,
-        "invalid depth acted as an occluder: {worst:?} {:?}",
-        r.prepared[worst.0]
-    );
+    for estimator in Estimator::ALL {
+        let options = AoOptions {
+            estimator,
+            ..randomized()
+        };
+        let run = |raw: &[f32]| {
+            run_ao(
+                raw,
+                w,
+                h,
+                p,
+                DepthConvention::LinearView,
+                None,
+                options,
+                &params,
+            )
+            .ao
+        };
+        let (with, without) = (run(&holed), run(&solid));
+        for (i, (a, b)) in with.iter().zip(&without).enumerate() {
+            // Tolerance 1e-4: float noise only.
+            assert!(
+                a + 1e-4 >= *b,
+                "{estimator:?} pixel {i}: {a} with holes < {b} without"
+            );
+        }
+        if estimator == Estimator::Hbao {
+            assert!(
+                with.iter().all(|&a| a > 0.999),
+                "HBAO sees a plane as unoccluded"
+            );
+        }
+    }
 }
 
 #[test]
@@ -835,17 +878,23 @@ fn timed_runs_report_every_pass_in_order() {
         viewport: None,
     };
     let expected: [(AoOptions, &[&str]); 3] = [
-        (randomized(), &["prepare_float", "hbao"]),
+        (
+            AoOptions {
+                estimator: Estimator::Hbao,
+                ..randomized()
+            },
+            &["prepare_float", "hbao"],
+        ),
         (
             AoOptions::default(),
-            &["prepare_float_split", "hbao_layers_merge"],
+            &["prepare_float_split", "gtao_layers_merge"],
         ),
         (
             AoOptions {
                 fused: false,
                 ..Default::default()
             },
-            &["prepare_float", "deinterleave", "hbao_layers", "interleave"],
+            &["prepare_float", "deinterleave", "gtao_layers", "interleave"],
         ),
     ];
     for (options, labels) in expected {

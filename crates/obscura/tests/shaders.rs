@@ -25,7 +25,9 @@ fn every_pass_validates() {
 
 #[test]
 fn frame_uniforms_layout_matches_wgsl() {
-    let module = parse(Pass::AoFull);
+    let module = parse(Pass::AoFull {
+        estimator: obscura::Estimator::Hbao,
+    });
     let (members, span) = module
         .types
         .iter()

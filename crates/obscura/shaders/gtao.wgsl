@@ -1,0 +1,111 @@
+// Ground-Truth AO (Jimenez, Wu, Pesce & Jarabo, "Practical Realtime Strategies for Accurate
+// Indirect Occlusion", 2016): the estimator only; composed like hbao.wgsl with an entry
+// fragment that provides `snap_offset` and `sample_depth`.
+//
+// For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep
+// the highest horizon (largest cos between the sample vector and the view vector V).
+// Samples farther than R, sky and off-screen samples are ignored, so visibility means
+// "nothing within R", the definition of the ray-traced reference. The horizons are clamped
+// to the normal's hemisphere and the cosine-weighted visible arc is integrated in closed
+// form, weighted by the projected normal's length. Slices are spaced evenly in screen
+// angle, which is not even in azimuth around V off the image centre; each slice is weighted
+// by d(azimuth)/d(screen angle) so that an unoccluded surface integrates to exactly 1
+// (without it, a plane near the image edge reads 2-5% occluded). AO = weighted mean.
+// CPU mirror: src/reference.rs, `gtao_pixel`.
+
+override DIRECTIONS: u32 = 4u;
+override STEPS: u32 = 4u;
+
+const HALF_PI: f32 = 1.5707963267948966;
+
+// Cosine-weighted integral of the arc from the normal's angle n to horizon angle h
+// (Jimenez et al., eq. 10), per side.
+fn gtao_arc(h: f32, n: f32, cos_n: f32) -> f32 {
+    return (cos_n + 2.0 * h * sin(n) - cos(2.0 * h - n)) * 0.25;
+}
+
+fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
+    let d = centre.x;
+    if d <= 0.0 {
+        return 1.0;
+    }
+    let normal = centre.yzw;
+    let pos = view_position(vec2<f32>(p) + 0.5, d);
+    var v = vec3<f32>(0.0, 0.0, 1.0);
+    if frame.perspective != 0u {
+        v = normalize(-pos);
+    }
+    var radius_px = frame.radius * frame.radius_to_px;
+    if frame.perspective != 0u {
+        radius_px = radius_px / d;
+    }
+    radius_px = min(radius_px, frame.max_radius_px);
+    let step_px = radius_px / f32(STEPS + 1u);
+    let size = vec2<i32>(frame.size);
+    var visibility = 0.0;
+    var weights = 0.0;
+    for (var i = 0u; i < DIRECTIONS; i++) {
+        // Slices cover half a turn: each marches both ways.
+        let a = f32(i) * (3.141592653589793 / f32(DIRECTIONS));
+        let base = vec2<f32>(cos(a), sin(a));
+        let dir = vec2<f32>(base.x * pattern.x - base.y * pattern.y, base.x * pattern.y + base.y * pattern.x);
+        // The slice plane holds V and the screen direction (y flips from pixels to view).
+        let dir3 = vec3<f32>(dir.x, -dir.y, 0.0);
+        let ortho = dir3 - dot(dir3, v) * v;
+        let axis = normalize(cross(ortho, v));
+        // d(ortho)/d(angle), from d(dir3)/d(angle) = (-dir.y, -dir.x, 0).
+        let ddir3 = vec3<f32>(-dir.y, -dir.x, 0.0);
+        let dortho = ddir3 - dot(ddir3, v) * v;
+        let weight = abs(dot(dortho, axis)) / length(ortho);
+        weights += weight;
+        let proj_n = normal - axis * dot(normal, axis);
+        let proj_len = length(proj_n);
+        if proj_len < 1e-6 {
+            visibility += weight;
+            continue;
+        }
+        let cos_n = clamp(dot(proj_n, v) / proj_len, -1.0, 1.0);
+        let n = sign(dot(ortho, proj_n)) * acos(cos_n);
+        // Horizon cosines start at the tangent plane's (the normal's hemisphere edge).
+        var hc0 = cos(n + HALF_PI);
+        var hc1 = cos(n - HALF_PI);
+        var ray = pattern.z * step_px + 1.0;
+        for (var s = 0u; s < STEPS; s++) {
+            let off = snap_offset(dir * ray);
+            ray += step_px;
+            for (var side = 0; side < 2; side++) {
+                var q = p + off;
+                if side == 1 {
+                    q = p - off;
+                }
+                if any(q < vec2<i32>(0)) || any(q >= size) {
+                    continue;
+                }
+                let sd = sample_depth(q);
+                if sd <= 0.0 {
+                    continue;
+                }
+                let full = view_position(vec2<f32>(q) + 0.5, sd) - pos;
+                let r2 = dot(full, full) * frame.inv_radius2;
+                // Pixel snapping moves samples slightly off the slice plane, where a plane's
+                // points can rise above its in-slice horizon: measure in the slice plane.
+                let w = full - axis * dot(full, axis);
+                if r2 >= 1.0 || dot(w, w) <= 0.0 {
+                    continue;
+                }
+                let c = clamp(dot(w, v) * inverseSqrt(dot(w, w)), -1.0, 1.0);
+                if side == 0 {
+                    hc0 = max(hc0, c);
+                } else {
+                    hc1 = max(hc1, c);
+                }
+            }
+        }
+        // Side 0 marched along +dir (positive angles), side 1 along -dir.
+        let h0 = n + clamp(acos(hc0) - n, -HALF_PI, HALF_PI);
+        let h1 = n + clamp(-acos(hc1) - n, -HALF_PI, HALF_PI);
+        visibility += weight * proj_len * (gtao_arc(h0, n, cos_n) + gtao_arc(h1, n, cos_n));
+    }
+    let per_slice = f32(DIRECTIONS) * visibility / weights;
+    return clamp(1.0 - (f32(DIRECTIONS) - per_slice) * frame.ao_scale, 0.0, 1.0);
+}
