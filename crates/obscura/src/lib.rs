@@ -3,7 +3,8 @@
 //! Screen-space ambient occlusion from a depth buffer, as wgpu compute passes.
 //!
 //! ```text
-//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──hbao──▶ AO (R32Float)
+//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──GTAO | HBAO──▶ AO (R32Float)
+//!                  (N×N deinterleaved layers in the default mode, merged on write)
 //! ```
 //!
 //! Integration in four steps:
