@@ -8,10 +8,7 @@ use crate::output::check_png_path;
 use crate::render::{EstimatorArg, NormalSource};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
-    NormalEncoding, Timing,
-};
+use obscura::{Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -143,16 +140,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut cell = 0;
     for &(w, h) in &resolutions {
         let g = raster.render(&ctx, &mesh, &cam, w, h)?;
-        let input = AoInput {
-            depth: &g.depth_view,
-            convention: DepthConvention::Standard,
-            projection: cam.obscura_projection(w as f32 / h as f32),
-            normals: match a.normals {
-                NormalSource::Gbuffer => Some((&g.normals_view, NormalEncoding::ViewSigned)),
-                NormalSource::Reconstruct => None,
-            },
-            viewport: None,
-        };
+        let input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
         for &r in &radii {
             cell += 1;
             let params = AoParams {

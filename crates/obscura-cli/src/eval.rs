@@ -3,14 +3,11 @@
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 
 use crate::output::{check_png_path, save_png};
-use crate::render::{EstimatorArg, ModeArg, NormalSource};
+use crate::render::{parse_floats, EstimatorArg, ModeArg, NormalSource};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
-    NormalEncoding,
-};
+use obscura::{Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext};
 use obscura_eval::{cache, metrics, views, Bvh, Falloff, TraceSettings};
 use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
@@ -120,13 +117,9 @@ fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
     if let Some(f) = &a.scene {
         let camera = match &a.camera {
             Some(c) => {
-                let v: Vec<f32> = c
-                    .split(',')
-                    .map(|t| t.trim().parse::<f32>())
-                    .collect::<Result<_, _>>()
-                    .with_context(|| format!("--camera `{c}` is not a list of numbers"))?;
-                if !(v.len() == 6 || v.len() == 7) || v.iter().any(|x| !x.is_finite()) {
-                    bail!("--camera needs 6 or 7 finite numbers (eye, target, optional fov)");
+                let v = parse_floats(c, "--camera")?;
+                if !(v.len() == 6 || v.len() == 7) {
+                    bail!("--camera needs 6 or 7 numbers (eye, target, optional fov)");
                 }
                 Some((
                     [v[0], v[1], v[2]],
@@ -334,16 +327,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // Screen-space AO in each mode, timed interleaved.
         let gpu_mesh = raster.upload(&ctx, &mesh)?;
         let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
-        let input = AoInput {
-            depth: &g.depth_view,
-            convention: DepthConvention::Standard,
-            projection: cam.obscura_projection(w as f32 / h as f32),
-            normals: match a.normals {
-                NormalSource::Gbuffer => Some((&g.normals_view, NormalEncoding::ViewSigned)),
-                NormalSource::Reconstruct => None,
-            },
-            viewport: None,
-        };
+        let input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
         let params = AoParams {
             radius,
             ..Default::default()

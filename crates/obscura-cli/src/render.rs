@@ -4,10 +4,7 @@ use crate::output::{check_png_path, save_png};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{
-    layout, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
-    NormalEncoding,
-};
+use obscura::{layout, Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext};
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -153,7 +150,8 @@ pub struct RenderArgs {
     pub runs: u32,
 }
 
-fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
+/// Parses comma-separated finite numbers, naming the option `what` in errors.
+pub fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
     let v: Vec<f32> = s
         .split(',')
         .map(|t| t.trim().parse::<f32>())
@@ -313,16 +311,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let options = options(a);
     let params = params(a, radius);
     let mut ao = Ao::new(&ctx.device, options)?;
-    let input = AoInput {
-        depth: &gbuffer.depth_view,
-        convention: DepthConvention::Standard,
-        projection: cam.obscura_projection(a.width as f32 / a.height as f32),
-        normals: match a.normals {
-            NormalSource::Gbuffer => Some((&gbuffer.normals_view, NormalEncoding::ViewSigned)),
-            NormalSource::Reconstruct => None,
-        },
-        viewport: None,
-    };
+    let input = gbuffer.ao_input(&cam, a.normals == NormalSource::Gbuffer);
     ao.validate(&input, &params)?;
     eprintln!(
         "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",

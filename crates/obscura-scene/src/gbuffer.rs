@@ -29,6 +29,21 @@ pub struct GBuffer {
     pub height: u32,
 }
 
+impl GBuffer {
+    /// obscura's input for this G-buffer seen by `camera`: standard depth, the camera's
+    /// projection, and the G-buffer's normals when `with_normals` (else reconstructed).
+    pub fn ao_input(&self, camera: &Camera, with_normals: bool) -> obscura::AoInput<'_> {
+        obscura::AoInput {
+            depth: &self.depth_view,
+            convention: obscura::DepthConvention::Standard,
+            projection: camera.obscura_projection(self.width as f32 / self.height as f32),
+            normals: with_normals
+                .then_some((&self.normals_view, obscura::NormalEncoding::ViewSigned)),
+            viewport: None,
+        }
+    }
+}
+
 /// The G-buffer render pipeline.
 #[derive(Debug)]
 pub struct GBufferRenderer {

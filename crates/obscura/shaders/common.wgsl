@@ -43,3 +43,14 @@ fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
 fn layer_of(p: vec2<u32>, n: u32) -> u32 {
     return p.x % n + n * (p.y % n);
 }
+
+// Ray-march step, in pixels, for a surface at linear depth `d`: the radius projected to the
+// screen (clamped to max_radius_px) divided into `steps + 1` parts. Mirror:
+// `FrameUniforms::step_px`.
+fn march_step_px(d: f32, steps: u32) -> f32 {
+    var radius_px = frame.radius * frame.radius_to_px;
+    if frame.perspective != 0u {
+        radius_px = radius_px / d;
+    }
+    return min(radius_px, frame.max_radius_px) / f32(steps + 1u);
+}

@@ -35,12 +35,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     if frame.perspective != 0u {
         v = normalize(-pos);
     }
-    var radius_px = frame.radius * frame.radius_to_px;
-    if frame.perspective != 0u {
-        radius_px = radius_px / d;
-    }
-    radius_px = min(radius_px, frame.max_radius_px);
-    let step_px = radius_px / f32(STEPS + 1u);
+    let step_px = march_step_px(d, STEPS);
     let size = vec2<i32>(frame.size);
     var visibility = 0.0;
     var weights = 0.0;

@@ -101,12 +101,7 @@ pub fn hbao_pixel(
     }
     let n = Vec3::new(centre_v.y, centre_v.z, centre_v.w);
     let pos = f.view_position(centre(p), d);
-    let mut radius_px = f.radius * f.radius_to_px;
-    if f.perspective != 0 {
-        radius_px /= d;
-    }
-    radius_px = radius_px.min(f.max_radius_px);
-    let step_px = radius_px / (steps + 1) as f32;
+    let step_px = f.step_px(d, steps);
     let mut occlusion = 0.0;
     for i in 0..directions {
         let a = i as f32 * (std::f32::consts::TAU / directions as f32);
@@ -175,12 +170,7 @@ pub fn gtao_pixel(
     } else {
         Vec3::Z
     };
-    let mut radius_px = f.radius * f.radius_to_px;
-    if f.perspective != 0 {
-        radius_px /= d;
-    }
-    radius_px = radius_px.min(f.max_radius_px);
-    let step_px = radius_px / (steps + 1) as f32;
+    let step_px = f.step_px(d, steps);
     let arc = |h: f32, n: f32, cos_n: f32| (cos_n + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25;
     let l = lattice as f32;
     let mut visibility = 0.0;

@@ -107,6 +107,16 @@ impl FrameUniforms {
         }
     }
 
+    /// Ray-march step in pixels at linear depth `d`; mirrors `march_step_px` in
+    /// shaders/common.wgsl.
+    pub fn step_px(&self, d: f32, steps: u32) -> f32 {
+        let mut radius_px = self.radius * self.radius_to_px;
+        if self.perspective != 0 {
+            radius_px /= d;
+        }
+        radius_px.min(self.max_radius_px) / (steps + 1) as f32
+    }
+
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
     /// Mirrors `view_position` in shaders/common.wgsl.
     pub fn view_position(&self, p: [f32; 2], d: f32) -> glam::Vec3 {
