@@ -29,7 +29,7 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
     pub estimator: EstimatorArg,
     /// Directions (HBAO) or slices (GTAO) (1..=32).
-    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
     #[arg(long)]
     pub directions: Option<u32>,
     /// Steps per direction (1..=32).

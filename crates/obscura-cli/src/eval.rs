@@ -56,10 +56,15 @@ pub struct EvalArgs {
     #[arg(long, value_enum, default_value_t = FalloffArg::None)]
     pub falloff: FalloffArg,
     /// Estimators to evaluate (comma-separated).
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "hbao,gtao")]
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "gtao,hbao,vo,vao"
+    )]
     pub estimators: Vec<EstimatorArg>,
     /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
-    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
     #[arg(long)]
     pub directions: Option<u32>,
     /// Steps per direction (1..=32).

@@ -43,6 +43,10 @@ pub enum EstimatorArg {
     Hbao,
     /// Ground-Truth AO (Jimenez et al. 2016).
     Gtao,
+    /// Volumetric Obscurance (Loos & Sloan 2010).
+    Vo,
+    /// Volumetric AO (Szirmay-Kalos et al. 2009).
+    Vao,
 }
 
 impl From<EstimatorArg> for Estimator {
@@ -50,6 +54,8 @@ impl From<EstimatorArg> for Estimator {
         match e {
             EstimatorArg::Hbao => Estimator::Hbao,
             EstimatorArg::Gtao => Estimator::Gtao,
+            EstimatorArg::Vo => Estimator::Vo,
+            EstimatorArg::Vao => Estimator::Vao,
         }
     }
 }
@@ -111,7 +117,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
     pub estimator: EstimatorArg,
     /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
-    /// Default: 8 for HBAO, 4 for GTAO (32 samples per pixel with 4 steps).
+    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
     #[arg(long)]
     pub directions: Option<u32>,
     /// Steps per direction (1..=32).

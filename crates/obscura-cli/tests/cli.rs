@@ -259,7 +259,7 @@ fn eval_writes_report_json_and_caches_the_reference() {
     assert!(out.status.success(), "{err}");
     assert!(err.contains("mean standard error"), "{err}");
     let md = std::fs::read_to_string(report.join("index.md")).unwrap();
-    for e in ["hbao", "gtao"] {
+    for e in ["gtao", "hbao", "vo", "vao"] {
         for m in ["randomized", "deinterleaved2", "deinterleaved4"] {
             assert!(md.contains(&format!("| {e} {m} |")), "{md}");
             let pic = image::open(report.join(format!("cornell-{e}-{m}-error.png"))).unwrap();
@@ -272,9 +272,9 @@ fn eval_writes_report_json_and_caches_the_reference() {
     }
     assert!(report.join("quality-vs-time.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
-    // White baseline + 2 estimators × 3 modes.
+    // White baseline + 4 estimators × 3 modes.
     let records = j.matches("\"view\": \"cornell\", \"estimator\"").count();
-    assert_eq!(records, 7, "{j}");
+    assert_eq!(records, 13, "{j}");
     assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 3, "{j}");
     // The second run finds the reference in the cache.
     let again = obscura(&args);

@@ -246,6 +246,88 @@ pub fn gtao_pixel(
     (1.0 - (directions as f32 - per_slice) * f.ao_scale).clamp(0.0, 1.0)
 }
 
+/// VO (`offset` 0) or VAO (`offset` 0.5) of one pixel; mirrors `estimate` in
+/// shaders/sphere.wgsl.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "mirrors the shader function's inputs one to one"
+)]
+pub fn sphere_pixel(
+    f: &FrameUniforms,
+    directions: u32,
+    steps: u32,
+    prepared: &[Vec4],
+    p: [i32; 2],
+    pattern: [f32; 4],
+    lattice: u32,
+    offset: f32,
+) -> f32 {
+    let width = f.size[0] as i32;
+    let centre_v = prepared[(p[1] * width + p[0]) as usize];
+    let d = centre_v.x;
+    if d <= 0.0 {
+        return 1.0;
+    }
+    let pos = f.view_position(centre(p), d);
+    let rs = f.radius * (1.0 - offset);
+    let c = pos + Vec3::new(centre_v.y, centre_v.z, centre_v.w) * (f.radius * offset);
+    let dc = -c.z;
+    if dc <= 0.0 {
+        return 1.0;
+    }
+    let rs_px = f.step_px(dc, 0) * (1.0 - offset);
+    // Projection of the centre to pixels, relative to this pixel's centre.
+    let mut xy = glam::Vec2::new(c.x, c.y) / glam::Vec2::from(f.ndc_to_view);
+    if f.perspective != 0 {
+        xy /= -c.z;
+    }
+    let c_px = [
+        (xy.x + 1.0) * 0.5 / f.inv_size[0] - (p[0] as f32 + 0.5),
+        (1.0 - xy.y) * 0.5 / f.inv_size[1] - (p[1] as f32 + 0.5),
+    ];
+    let l = lattice as f32;
+    let (mut occupied, mut total) = (0.0f32, 0.0f32);
+    for i in 0..directions {
+        let a = i as f32 * (std::f32::consts::TAU / directions as f32);
+        let (bs, bc) = a.sin_cos();
+        let dir = [
+            bc * pattern[0] - bs * pattern[1],
+            bc * pattern[1] + bs * pattern[0],
+        ];
+        for s in 0..steps {
+            let r = ((s as f32 + pattern[2]) / steps as f32).sqrt();
+            let q = [
+                p[0] + ((c_px[0] + dir[0] * (r * rs_px)) / l).round_ties_even() as i32
+                    * lattice as i32,
+                p[1] + ((c_px[1] + dir[1] * (r * rs_px)) / l).round_ties_even() as i32
+                    * lattice as i32,
+            ];
+            if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+                continue;
+            }
+            let lateral = f.view_position(centre(q), dc) - c;
+            let l2 = (lateral.x * lateral.x + lateral.y * lateral.y) / (rs * rs);
+            if l2 >= 1.0 {
+                continue;
+            }
+            let h = rs * (1.0 - l2).sqrt();
+            total += 2.0 * h;
+            let sd = prepared[(q[1] * width + q[0]) as usize].x;
+            if sd > 0.0 {
+                occupied += (dc + h - sd.max(dc - h)).clamp(0.0, 2.0 * h);
+            }
+        }
+    }
+    if total <= 0.0 {
+        return 1.0;
+    }
+    let mut open = 1.0 - occupied / total;
+    if offset == 0.0 {
+        open *= 2.0;
+    }
+    (1.0 - (1.0 - open.min(1.0)) * f.ao_scale).clamp(0.0, 1.0)
+}
+
 /// AO over the whole viewport with `options`' estimator in its mode, computed per
 /// full-resolution pixel: the
 /// randomized pass takes the pattern of the pixel's place in the 4×4 tile; an N×N
@@ -262,19 +344,13 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
             let pattern = f.patterns[crate::jitter::pattern_index(x, y, dim)];
-            let pixel = match options.estimator {
-                crate::Estimator::Hbao => hbao_pixel,
-                crate::Estimator::Gtao => gtao_pixel,
-            };
-            out.push(pixel(
-                f,
-                options.directions,
-                options.steps,
-                prepared,
-                [x as i32, y as i32],
-                pattern,
-                lattice,
-            ));
+            let (d, s, q) = (options.directions, options.steps, [x as i32, y as i32]);
+            out.push(match options.estimator {
+                crate::Estimator::Hbao => hbao_pixel(f, d, s, prepared, q, pattern, lattice),
+                crate::Estimator::Gtao => gtao_pixel(f, d, s, prepared, q, pattern, lattice),
+                crate::Estimator::Vo => sphere_pixel(f, d, s, prepared, q, pattern, lattice, 0.0),
+                crate::Estimator::Vao => sphere_pixel(f, d, s, prepared, q, pattern, lattice, 0.5),
+            });
         }
     }
     out

@@ -17,18 +17,30 @@ pub enum Estimator {
     /// HBAO on every shared scene (docs/quality.md).
     #[default]
     Gtao,
+    /// Volumetric Obscurance (Loos & Sloan 2010): occupied fraction of a sphere of radius R
+    /// centred on the surface, by line integrals; no normal needed.
+    /// Samples/pixel = directions × steps.
+    Vo,
+    /// Volumetric AO (Szirmay-Kalos et al. 2009): occupied fraction of a sphere of radius
+    /// R/2 centred R/2 along the normal. Samples/pixel = directions × steps.
+    Vao,
 }
 
 impl Estimator {
     /// Every estimator.
-    pub const ALL: [Estimator; 2] = [Estimator::Hbao, Estimator::Gtao];
+    pub const ALL: [Estimator; 4] = [
+        Estimator::Hbao,
+        Estimator::Gtao,
+        Estimator::Vo,
+        Estimator::Vao,
+    ];
 
     /// Directions (HBAO) or slices (GTAO) giving 32 samples per pixel with 4 steps: the
     /// default, so both estimators cost the same by default.
     pub fn default_directions(self) -> u32 {
         match self {
-            Estimator::Hbao => 8,
             Estimator::Gtao => 4,
+            Estimator::Hbao | Estimator::Vo | Estimator::Vao => 8,
         }
     }
 
@@ -37,6 +49,8 @@ impl Estimator {
         match self {
             Estimator::Hbao => "hbao",
             Estimator::Gtao => "gtao",
+            Estimator::Vo => "vo",
+            Estimator::Vao => "vao",
         }
     }
 }
@@ -182,8 +196,8 @@ impl AoOptions {
     /// Samples per pixel of the AO pass.
     pub fn samples_per_pixel(&self) -> u32 {
         match self.estimator {
-            Estimator::Hbao => self.directions * self.steps,
             Estimator::Gtao => 2 * self.directions * self.steps,
+            Estimator::Hbao | Estimator::Vo | Estimator::Vao => self.directions * self.steps,
         }
     }
 }

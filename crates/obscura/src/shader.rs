@@ -93,28 +93,15 @@ impl Pass {
                 layers: true,
                 ..
             } => "prepare_float_split",
-            Pass::AoFull {
-                estimator: Estimator::Hbao,
-            } => "hbao",
-            Pass::AoFull {
-                estimator: Estimator::Gtao,
-            } => "gtao",
+            Pass::AoFull { estimator } => ao_label(estimator, 0),
             Pass::AoLayered {
                 merge: true,
-                estimator: Estimator::Hbao,
-            } => "hbao_layers_merge",
+                estimator,
+            } => ao_label(estimator, 1),
             Pass::AoLayered {
                 merge: false,
-                estimator: Estimator::Hbao,
-            } => "hbao_layers",
-            Pass::AoLayered {
-                merge: true,
-                estimator: Estimator::Gtao,
-            } => "gtao_layers_merge",
-            Pass::AoLayered {
-                merge: false,
-                estimator: Estimator::Gtao,
-            } => "gtao_layers",
+                estimator,
+            } => ao_label(estimator, 2),
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
         }
@@ -125,6 +112,7 @@ impl Pass {
         let estimator_source = |e: Estimator| match e {
             Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
             Estimator::Gtao => include_str!("../shaders/gtao.wgsl"),
+            Estimator::Vo | Estimator::Vao => include_str!("../shaders/sphere.wgsl"),
         };
         const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
@@ -193,15 +181,35 @@ impl Pass {
             ("DIRECTIONS", options.directions as f64),
             ("STEPS", options.steps as f64),
         ];
+        // sphere.wgsl serves VO (sphere on the surface) and VAO (sphere offset R/2).
+        let sphere = |e: Estimator| match e {
+            Estimator::Vo => vec![("SPHERE_OFFSET", 0.0)],
+            Estimator::Vao => vec![("SPHERE_OFFSET", 0.5)],
+            _ => vec![],
+        };
         match self {
             Pass::Prepare { layers: false, .. } => vec![],
             Pass::Prepare { layers: true, .. } | Pass::Deinterleave | Pass::Interleave => {
                 vec![split]
             }
-            Pass::AoFull { .. } => estimator.to_vec(),
-            Pass::AoLayered { .. } => [&estimator[..], &[split]].concat(),
+            Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),
+            Pass::AoLayered { estimator: e, .. } => {
+                [&estimator[..], &sphere(e)[..], &[split]].concat()
+            }
         }
     }
+}
+
+/// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
+/// 2 = layers kept for the interleave pass.
+fn ao_label(e: Estimator, kind: usize) -> &'static str {
+    let names: [&'static str; 3] = match e {
+        Estimator::Hbao => ["hbao", "hbao_layers_merge", "hbao_layers"],
+        Estimator::Gtao => ["gtao", "gtao_layers_merge", "gtao_layers"],
+        Estimator::Vo => ["vo", "vo_layers_merge", "vo_layers"],
+        Estimator::Vao => ["vao", "vao_layers_merge", "vao_layers"],
+    };
+    names[kind]
 }
 
 /// Constants and structs generated from Rust.

@@ -35,7 +35,7 @@ crate::gpu_struct! {
         /// sin(tangent bias angle).
         pub sin_bias: f32,
         /// Maps the estimator's summed occlusion to [0, 1]: HBAO strength / (directions ·
-        /// (1 − sin_bias)); GTAO strength / directions.
+        /// (1 − sin_bias)); GTAO strength / directions; VO and VAO strength.
         pub ao_scale: f32,
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
@@ -88,6 +88,7 @@ impl FrameUniforms {
                     params.strength / (options.directions as f32 * (1.0 - sin_bias))
                 }
                 crate::Estimator::Gtao => params.strength / options.directions as f32,
+                crate::Estimator::Vo | crate::Estimator::Vao => params.strength,
             },
             patterns: pattern_table(options.directions),
         })

@@ -549,8 +549,14 @@ fn planes_facing_or_tilted_are_unoccluded() {
             // the N-pixel lattice) lie slightly off it, where a tilted plane rises above its
             // in-slice horizon. Stated tolerance: min > 0.8, mean > 0.98 (4 slices on the 4×4
             // lattice is the worst: 0.84 / 0.984 measured; 8 randomized slices 0.97 / 0.998).
+            // VO and VAO estimate a sphere's occupied volume from DIRECTIONS × STEPS chords:
+            // on a tilted plane 32 chords give a noisy per-pixel estimate (VO: half-volume,
+            // min 0.70 measured) whose mean is right (VO > 0.997); VAO's chords run along
+            // the view axis while the depth comes along the pixel's ray (min 0.87, mean 0.989).
             let (min_ok, mean_ok) = match estimator {
                 Estimator::Gtao => (0.8, 0.98),
+                Estimator::Vo => (0.65, 0.99),
+                Estimator::Vao => (0.8, 0.98),
                 _ => (0.999, 0.999),
             };
             assert!(
