@@ -5,10 +5,10 @@
 //! randomized single pass.
 
 use crate::output::check_png_path;
-use crate::render::{EstimatorArg, NormalSource};
+use crate::render::{NormalSource, QualityArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use obscura::{Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext, Timing};
+use obscura::{Ao, AoMode, AoOptions, AoParams, GpuContext, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -25,16 +25,8 @@ pub struct BenchArgs {
     /// Timed rounds after one warm-up round; each round runs every variant once.
     #[arg(long, default_value_t = 3)]
     pub runs: u32,
-    /// AO estimator for every variant.
-    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
-    pub estimator: EstimatorArg,
-    /// Directions (HBAO) or slices (GTAO) (1..=32).
-    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
-    #[arg(long)]
-    pub directions: Option<u32>,
-    /// Steps per direction (1..=32).
-    #[arg(long, default_value_t = AoOptions::default().steps)]
-    pub steps: u32,
+    #[command(flatten)]
+    pub quality: QualityArgs,
     /// Where the AO normals come from (the G-buffer's, or reconstructed from depth).
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
@@ -57,7 +49,7 @@ struct Record {
     ratio: f64,
 }
 
-fn variants(estimator: Estimator, directions: u32, steps: u32) -> Vec<(String, AoOptions)> {
+fn variants(base: AoOptions) -> Vec<(String, AoOptions)> {
     let mut v = Vec::new();
     for mode in AoMode::ALL {
         for fused in [true, false] {
@@ -68,11 +60,9 @@ fn variants(estimator: Estimator, directions: u32, steps: u32) -> Vec<(String, A
             v.push((
                 name,
                 AoOptions {
-                    estimator,
-                    directions,
-                    steps,
                     mode,
                     fused,
+                    ..base
                 },
             ));
         }
@@ -118,9 +108,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
-    let estimator: Estimator = a.estimator.into();
-    let directions = a.directions.unwrap_or(estimator.default_directions());
-    let variants = variants(estimator, directions, a.steps);
+    let base = a.quality.samples.options(a.quality.estimator.into());
+    let variants = variants(base);
     for (_, o) in &variants {
         o.validate()?;
     }
@@ -192,7 +181,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     }
     print!("{}", table(&records, &variants));
     if let Some(p) = &a.json {
-        write_atomic(p, &json(&records, &ctx, a))?;
+        write_atomic(p, &json(&records, &ctx, a, &base))?;
         eprintln!("wrote {}", p.display());
     }
     if let Some(p) = &a.plot {
@@ -264,15 +253,14 @@ fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
     s
 }
 
-fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs) -> String {
+fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs, base: &AoOptions) -> String {
     let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
     let mut s = format!(
         "{{\n  \"adapter\": \"{}\",\n  \"estimator\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"runs\": {},\n  \"records\": [\n",
         esc(&ctx.describe()),
-        Estimator::from(a.estimator).name(),
-        a.directions
-            .unwrap_or(Estimator::from(a.estimator).default_directions()),
-        a.steps,
+        base.estimator.name(),
+        base.directions,
+        base.steps,
         a.runs
     );
     for (i, r) in records.iter().enumerate() {

@@ -3,7 +3,7 @@
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 
 use crate::output::{check_png_path, save_png};
-use crate::render::{parse_floats, EstimatorArg, ModeArg, NormalSource};
+use crate::render::{parse_floats, EstimatorArg, ModeArg, NormalSource, SampleArgs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -63,13 +63,8 @@ pub struct EvalArgs {
         default_value = "gtao,hbao,vo,vao"
     )]
     pub estimators: Vec<EstimatorArg>,
-    /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
-    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
-    #[arg(long)]
-    pub directions: Option<u32>,
-    /// Steps per direction (1..=32).
-    #[arg(long, default_value_t = AoOptions::default().steps)]
-    pub steps: u32,
+    #[command(flatten)]
+    pub samples: SampleArgs,
     /// Pass layouts to evaluate (comma-separated); every estimator runs in every mode.
     #[arg(
         long,
@@ -246,11 +241,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             (
                 format!("{} {}", estimator.name(), mode.name()),
                 AoOptions {
-                    estimator,
                     mode,
-                    directions: a.directions.unwrap_or(estimator.default_directions()),
-                    steps: a.steps,
-                    ..Default::default()
+                    ..a.samples.options(estimator)
                 },
             )
         })

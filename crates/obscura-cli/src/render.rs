@@ -4,7 +4,7 @@ use crate::output::{check_png_path, save_png};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{layout, Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext};
+use obscura::{layout, Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext, Preset};
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -56,6 +56,63 @@ impl From<EstimatorArg> for Estimator {
             EstimatorArg::Gtao => Estimator::Gtao,
             EstimatorArg::Vo => Estimator::Vo,
             EstimatorArg::Vao => Estimator::Vao,
+        }
+    }
+}
+
+/// Quality presets (see `obscura::Preset`): samples per pixel 8, 16, 32, 96.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PresetArg {
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+impl From<PresetArg> for Preset {
+    fn from(p: PresetArg) -> Self {
+        match p {
+            PresetArg::Low => Preset::Low,
+            PresetArg::Medium => Preset::Medium,
+            PresetArg::High => Preset::High,
+            PresetArg::Ultra => Preset::Ultra,
+        }
+    }
+}
+
+/// The estimator and its sample counts, shared by `render` and `bench`.
+#[derive(Debug, Args)]
+pub struct QualityArgs {
+    /// AO estimator.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
+    pub estimator: EstimatorArg,
+    #[command(flatten)]
+    pub samples: SampleArgs,
+}
+
+/// Preset and explicit sample counts, shared by every subcommand.
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// Quality preset: samples per pixel 8 (low), 16 (medium), 32 (high), 96 (ultra), the same
+    /// for every estimator. --directions and --steps override it.
+    #[arg(long, value_enum, default_value_t = PresetArg::High)]
+    pub preset: PresetArg,
+    /// Directions (HBAO, VO, VAO) or slices (GTAO) per pixel (1..=32). Default: the preset's.
+    #[arg(long)]
+    pub directions: Option<u32>,
+    /// Steps per direction (1..=32). Default: the preset's.
+    #[arg(long)]
+    pub steps: Option<u32>,
+}
+
+impl SampleArgs {
+    /// The preset's options for `estimator`, with explicit counts applied.
+    pub fn options(&self, estimator: Estimator) -> AoOptions {
+        let base = AoOptions::preset(estimator, self.preset.into());
+        AoOptions {
+            directions: self.directions.unwrap_or(base.directions),
+            steps: self.steps.unwrap_or(base.steps),
+            ..base
         }
     }
 }
@@ -113,16 +170,8 @@ pub struct RenderArgs {
     /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
     #[arg(long)]
     pub radius: Option<f32>,
-    /// AO estimator.
-    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
-    pub estimator: EstimatorArg,
-    /// Directions (HBAO) or slices (GTAO) per pixel (1..=32).
-    /// Default: 4 for GTAO, 8 for the others (32 samples per pixel with 4 steps).
-    #[arg(long)]
-    pub directions: Option<u32>,
-    /// Steps per direction (1..=32).
-    #[arg(long, default_value_t = AoOptions::default().steps)]
-    pub steps: u32,
+    #[command(flatten)]
+    pub quality: QualityArgs,
     /// AO pass layout: deinterleaved modes split the image into N×N layers (seed 000).
     #[arg(long, value_enum, default_value_t = ModeArg::Deinterleaved2)]
     pub mode: ModeArg,
@@ -197,13 +246,9 @@ fn check_args(a: &RenderArgs) -> Result<()> {
 
 fn options(a: &RenderArgs) -> AoOptions {
     AoOptions {
-        estimator: a.estimator.into(),
-        directions: a
-            .directions
-            .unwrap_or(Estimator::from(a.estimator).default_directions()),
-        steps: a.steps,
         mode: a.mode.into(),
         fused: !a.unfused,
+        ..a.quality.samples.options(a.quality.estimator.into())
     }
 }
 

@@ -4,7 +4,7 @@
 
 use obscura::{
     Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
-    NormalEncoding,
+    NormalEncoding, Preset,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh, SceneError};
 use std::path::{Path, PathBuf};
@@ -188,9 +188,7 @@ fn deinterleaved_ao_matches_randomized_on_the_default_scene() {
         let run = |mode| {
             let o = AoOptions {
                 mode,
-                estimator,
-                directions: estimator.default_directions(),
-                ..Default::default()
+                ..AoOptions::preset(estimator, Preset::High)
             };
             render_with(&mesh, &cam, w, h, 1.0, o).1
         };

@@ -35,15 +35,6 @@ impl Estimator {
         Estimator::Vao,
     ];
 
-    /// Directions (HBAO) or slices (GTAO) giving 32 samples per pixel with 4 steps: the
-    /// default, so both estimators cost the same by default.
-    pub fn default_directions(self) -> u32 {
-        match self {
-            Estimator::Gtao => 4,
-            Estimator::Hbao | Estimator::Vo | Estimator::Vao => 8,
-        }
-    }
-
     /// Short name used by the CLI, labels and reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -53,6 +44,29 @@ impl Estimator {
             Estimator::Vao => "vao",
         }
     }
+}
+
+/// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
+/// that a preset costs the same number of samples per pixel with every estimator:
+///
+/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO directions × steps |
+/// |---|---|---|---|
+/// | `Low` | 8 | 2 × 2 | 4 × 2 |
+/// | `Medium` | 16 | 2 × 4 | 4 × 4 |
+/// | `High` (default) | 32 | 4 × 4 | 8 × 4 |
+/// | `Ultra` | 96 | 8 × 6 | 16 × 6 |
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Preset {
+    Low,
+    Medium,
+    #[default]
+    High,
+    Ultra,
+}
+
+impl Preset {
+    /// Every preset, cheapest first.
+    pub const ALL: [Preset; 4] = [Preset::Low, Preset::Medium, Preset::High, Preset::Ultra];
 }
 
 /// How the AO pass is laid out over the image (seed 000, "Deinterleaved Texturing").
@@ -102,8 +116,8 @@ impl AoMode {
 pub struct AoOptions {
     /// The estimator. Default: GTAO.
     pub estimator: Estimator,
-    /// Directions (HBAO) or slices (GTAO) per pixel. Unit: count. Range 1..=32. Default 4
-    /// (GTAO; [`Estimator::default_directions`] gives each estimator's 32-sample default).
+    /// Directions (HBAO, VO, VAO) or slices (GTAO) per pixel. Unit: count. Range 1..=32.
+    /// Default 4 (GTAO's `Preset::High`; [`AoOptions::preset`] gives every estimator's).
     pub directions: u32,
     /// Ray-march steps per direction. Unit: count. Range 1..=32. Default 4.
     /// Samples per pixel = `directions * steps`.
@@ -124,7 +138,8 @@ impl Default for AoOptions {
     fn default() -> Self {
         Self {
             estimator: Estimator::default(),
-            directions: Estimator::default().default_directions(),
+            // Preset::High for GTAO (a test checks they agree).
+            directions: 4,
             steps: 4,
             mode: AoMode::default(),
             fused: true,
@@ -177,6 +192,26 @@ fn check<T: std::fmt::Display>(
 }
 
 impl AoOptions {
+    /// The options of `preset` for `estimator` (default mode, fused); see [`Preset`].
+    pub fn preset(estimator: Estimator, preset: Preset) -> Self {
+        let (directions, steps) = match (estimator, preset) {
+            (Estimator::Gtao, Preset::Low) => (2, 2),
+            (Estimator::Gtao, Preset::Medium) => (2, 4),
+            (Estimator::Gtao, Preset::High) => (4, 4),
+            (Estimator::Gtao, Preset::Ultra) => (8, 6),
+            (_, Preset::Low) => (4, 2),
+            (_, Preset::Medium) => (4, 4),
+            (_, Preset::High) => (8, 4),
+            (_, Preset::Ultra) => (16, 6),
+        };
+        Self {
+            estimator,
+            directions,
+            steps,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         check(
@@ -240,6 +275,21 @@ mod tests {
     fn defaults_are_valid() {
         AoOptions::default().validate().unwrap();
         AoParams::default().validate().unwrap();
+        assert_eq!(
+            AoOptions::default(),
+            AoOptions::preset(Estimator::Gtao, Preset::High)
+        );
+    }
+
+    #[test]
+    fn presets_cost_the_documented_samples_with_every_estimator() {
+        for (preset, spp) in Preset::ALL.into_iter().zip([8, 16, 32, 96]) {
+            for e in Estimator::ALL {
+                let o = AoOptions::preset(e, preset);
+                o.validate().unwrap();
+                assert_eq!(o.samples_per_pixel(), spp, "{e:?} {preset:?}");
+            }
+        }
     }
 
     #[test]
