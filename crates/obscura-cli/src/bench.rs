@@ -4,7 +4,7 @@
 //! dispatches) the wall clock around submit + wait of each pass. Medians and ratios to the
 //! randomized single pass.
 
-use crate::output::check_png_path;
+use crate::output::{check_png_path, write_text};
 use crate::render::{NormalSource, QualityArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -181,11 +181,11 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     }
     print!("{}", table(&records, &variants));
     if let Some(p) = &a.json {
-        write_atomic(p, &json(&records, &ctx, a, &base))?;
+        write_text(p, &json(&records, &ctx, a, &base))?;
         eprintln!("wrote {}", p.display());
     }
     if let Some(p) = &a.plot {
-        write_atomic(p, &svg(&records, &variants, &resolutions))?;
+        write_text(p, &svg(&records, &variants, &resolutions))?;
         eprintln!("wrote {}", p.display());
     }
     Ok(())
@@ -199,17 +199,6 @@ fn check_svg_path(p: &Path) -> Result<()> {
         bail!("--plot `{}` must end in .svg", p.display());
     }
     Ok(())
-}
-
-fn write_atomic(path: &Path, text: &str) -> Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".tmp-{}", std::process::id()));
-    let tmp = PathBuf::from(tmp);
-    let r = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-    if r.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    r.with_context(|| format!("cannot write `{}`", path.display()))
 }
 
 /// Markdown: one row per resolution and radius; each variant's median and ratio

@@ -2,7 +2,7 @@
 //! file or the standard views of the shared scenes. Writes a markdown report with
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 
-use crate::output::{check_png_path, save_png};
+use crate::output::{check_png_path, save_png, write_text};
 use crate::render::{parse_floats, EstimatorArg, ModeArg, NormalSource, SampleArgs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -466,15 +466,6 @@ fn relative_dir(dir: &Path, md: &Path) -> String {
         Ok(r) => format!("{}/", r.display()),
         Err(_) => format!("{}/", dir.display()),
     }
-}
-
-fn write_text(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
-    let r = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-    if r.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    r.with_context(|| format!("cannot write `{}`", path.display()))
 }
 
 /// Box-filters `img` by `scale` (1/scale rounded to an integer factor).
