@@ -77,34 +77,60 @@ pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {
     out
 }
 
-/// HBAO of one pixel; mirrors `hbao` in shaders/hbao.wgsl. `lattice` is the sampling
-/// lattice of the mode (1: any pixel; N: offsets snapped to multiples of N, which is what
-/// the N×N deinterleaved pass samples).
-#[allow(
-    clippy::too_many_arguments,
-    reason = "mirrors the shader function's inputs one to one"
-)]
-pub fn hbao_pixel(
-    f: &FrameUniforms,
-    directions: u32,
-    steps: u32,
-    prepared: &[Vec4],
-    p: [i32; 2],
-    pattern: [f32; 4],
-    lattice: u32,
-) -> f32 {
-    let width = f.size[0] as i32;
-    let centre_v = prepared[(p[1] * width + p[0]) as usize];
-    let d = centre_v.x;
-    if d <= 0.0 {
-        return 1.0;
+/// What every estimator's pixel function reads: the frame, the compiled sample counts,
+/// the prepared buffer (viewport-sized) and the sampling lattice of the mode (1: any pixel;
+/// N: offsets snapped to multiples of N, which is what the N×N deinterleaved pass samples).
+#[derive(Clone, Copy, Debug)]
+pub struct Pixels<'a> {
+    pub f: &'a FrameUniforms,
+    pub directions: u32,
+    pub steps: u32,
+    pub prepared: &'a [Vec4],
+    pub lattice: u32,
+}
+
+/// The surface seen at a pixel: linear depth, normal, view position.
+struct Surface {
+    d: f32,
+    n: Vec3,
+    pos: Vec3,
+}
+
+impl Pixels<'_> {
+    /// The surface at `p`, or `None` for sky (every estimator then returns 1).
+    fn surface(&self, p: [i32; 2]) -> Option<Surface> {
+        let v = self.prepared[(p[1] * self.f.size[0] as i32 + p[0]) as usize];
+        (v.x > 0.0).then(|| Surface {
+            d: v.x,
+            n: Vec3::new(v.y, v.z, v.w),
+            pos: self.f.view_position(centre(p), v.x),
+        })
     }
-    let n = Vec3::new(centre_v.y, centre_v.z, centre_v.w);
-    let pos = f.view_position(centre(p), d);
-    let step_px = f.step_px(d, steps);
+
+    /// `v` (pixels) snapped to the lattice, as WGSL's round() does (half to even).
+    fn snap(&self, v: [f32; 2]) -> [i32; 2] {
+        let l = self.lattice as f32;
+        v.map(|c| (c / l).round_ties_even() as i32 * self.lattice as i32)
+    }
+
+    /// Linear depth at `q`, or `None` outside the viewport.
+    fn depth_at(&self, q: [i32; 2]) -> Option<f32> {
+        let (w, h) = (self.f.size[0] as i32, self.f.size[1] as i32);
+        (q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h)
+            .then(|| self.prepared[(q[1] * w + q[0]) as usize].x)
+    }
+}
+
+/// HBAO of one pixel; mirrors `estimate` in shaders/hbao.wgsl.
+pub fn hbao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    let f = px.f;
+    let Some(Surface { d, n, pos }) = px.surface(p) else {
+        return 1.0;
+    };
+    let step_px = f.step_px(d, px.steps);
     let mut occlusion = 0.0;
-    for i in 0..directions {
-        let a = i as f32 * (std::f32::consts::TAU / directions as f32);
+    for i in 0..px.directions {
+        let a = i as f32 * (std::f32::consts::TAU / px.directions as f32);
         let (bs, bc) = a.sin_cos();
         let dir = [
             bc * pattern[0] - bs * pattern[1],
@@ -112,18 +138,13 @@ pub fn hbao_pixel(
         ];
         let mut ray = pattern[2] * step_px + 1.0;
         let mut sin_h = f.sin_bias;
-        for _ in 0..steps {
-            // WGSL's round() is round-half-to-even.
-            let l = lattice as f32;
-            let q = [
-                p[0] + (dir[0] * ray / l).round_ties_even() as i32 * lattice as i32,
-                p[1] + (dir[1] * ray / l).round_ties_even() as i32 * lattice as i32,
-            ];
+        for _ in 0..px.steps {
+            let off = px.snap([dir[0] * ray, dir[1] * ray]);
+            let q = [p[0] + off[0], p[1] + off[1]];
             ray += step_px;
-            if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+            let Some(sd) = px.depth_at(q) else {
                 break;
-            }
-            let sd = prepared[(q[1] * width + q[0]) as usize].x;
+            };
             if sd <= 0.0 {
                 continue;
             }
@@ -143,40 +164,23 @@ pub fn hbao_pixel(
 }
 
 /// GTAO of one pixel; mirrors `estimate` in shaders/gtao.wgsl.
-#[allow(
-    clippy::too_many_arguments,
-    reason = "mirrors the shader function's inputs one to one"
-)]
-pub fn gtao_pixel(
-    f: &FrameUniforms,
-    directions: u32,
-    steps: u32,
-    prepared: &[Vec4],
-    p: [i32; 2],
-    pattern: [f32; 4],
-    lattice: u32,
-) -> f32 {
+pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
-    let width = f.size[0] as i32;
-    let centre_v = prepared[(p[1] * width + p[0]) as usize];
-    let d = centre_v.x;
-    if d <= 0.0 {
+    let f = px.f;
+    let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
         return 1.0;
-    }
-    let normal = Vec3::new(centre_v.y, centre_v.z, centre_v.w);
-    let pos = f.view_position(centre(p), d);
+    };
     let v = if f.perspective != 0 {
         (-pos).normalize()
     } else {
         Vec3::Z
     };
-    let step_px = f.step_px(d, steps);
+    let step_px = f.step_px(d, px.steps);
     let arc = |h: f32, n: f32, cos_n: f32| (cos_n + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25;
-    let l = lattice as f32;
     let mut visibility = 0.0;
     let mut weights = 0.0;
-    for i in 0..directions {
-        let a = i as f32 * (PI / directions as f32);
+    for i in 0..px.directions {
+        let a = i as f32 * (PI / px.directions as f32);
         let (bs, bc) = a.sin_cos();
         let dir = [
             bc * pattern[0] - bs * pattern[1],
@@ -197,24 +201,19 @@ pub fn gtao_pixel(
         }
         let cos_n = (proj_n.dot(v) / proj_len).clamp(-1.0, 1.0);
         // WGSL's sign(0) is 0 (f32::signum(0.0) is 1).
-        let sgn = {
-            let x = ortho.dot(proj_n);
-            if x > 0.0 {
-                1.0
-            } else if x < 0.0 {
-                -1.0
-            } else {
-                0.0
-            }
+        let x = ortho.dot(proj_n);
+        let sgn = if x > 0.0 {
+            1.0
+        } else if x < 0.0 {
+            -1.0
+        } else {
+            0.0
         };
         let n = sgn * cos_n.acos();
         let mut hc = [(n + FRAC_PI_2).cos(), (n - FRAC_PI_2).cos()];
         let mut ray = pattern[2] * step_px + 1.0;
-        for _ in 0..steps {
-            let off = [
-                (dir[0] * ray / l).round_ties_even() as i32 * lattice as i32,
-                (dir[1] * ray / l).round_ties_even() as i32 * lattice as i32,
-            ];
+        for _ in 0..px.steps {
+            let off = px.snap([dir[0] * ray, dir[1] * ray]);
             ray += step_px;
             for (side, h) in hc.iter_mut().enumerate() {
                 let q = if side == 0 {
@@ -222,10 +221,9 @@ pub fn gtao_pixel(
                 } else {
                     [p[0] - off[0], p[1] - off[1]]
                 };
-                if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+                let Some(sd) = px.depth_at(q) else {
                     continue;
-                }
-                let sd = prepared[(q[1] * width + q[0]) as usize].x;
+                };
                 if sd <= 0.0 {
                     continue;
                 }
@@ -242,35 +240,20 @@ pub fn gtao_pixel(
         let h1 = n + (-hc[1].acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
         visibility += weight * proj_len * (arc(h0, n, cos_n) + arc(h1, n, cos_n));
     }
-    let per_slice = directions as f32 * visibility / weights;
-    (1.0 - (directions as f32 - per_slice) * f.ao_scale).clamp(0.0, 1.0)
+    let dirs = px.directions as f32;
+    let per_slice = dirs * visibility / weights;
+    (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0)
 }
 
 /// VO (`offset` 0) or VAO (`offset` 0.5) of one pixel; mirrors `estimate` in
 /// shaders/sphere.wgsl.
-#[allow(
-    clippy::too_many_arguments,
-    reason = "mirrors the shader function's inputs one to one"
-)]
-pub fn sphere_pixel(
-    f: &FrameUniforms,
-    directions: u32,
-    steps: u32,
-    prepared: &[Vec4],
-    p: [i32; 2],
-    pattern: [f32; 4],
-    lattice: u32,
-    offset: f32,
-) -> f32 {
-    let width = f.size[0] as i32;
-    let centre_v = prepared[(p[1] * width + p[0]) as usize];
-    let d = centre_v.x;
-    if d <= 0.0 {
+pub fn sphere_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4], offset: f32) -> f32 {
+    let f = px.f;
+    let Some(Surface { n, pos, .. }) = px.surface(p) else {
         return 1.0;
-    }
-    let pos = f.view_position(centre(p), d);
+    };
     let rs = f.radius * (1.0 - offset);
-    let c = pos + Vec3::new(centre_v.y, centre_v.z, centre_v.w) * (f.radius * offset);
+    let c = pos + n * (f.radius * offset);
     let dc = -c.z;
     if dc <= 0.0 {
         return 1.0;
@@ -285,26 +268,24 @@ pub fn sphere_pixel(
         (xy.x + 1.0) * 0.5 / f.inv_size[0] - (p[0] as f32 + 0.5),
         (1.0 - xy.y) * 0.5 / f.inv_size[1] - (p[1] as f32 + 0.5),
     ];
-    let l = lattice as f32;
     let (mut occupied, mut total) = (0.0f32, 0.0f32);
-    for i in 0..directions {
-        let a = i as f32 * (std::f32::consts::TAU / directions as f32);
+    for i in 0..px.directions {
+        let a = i as f32 * (std::f32::consts::TAU / px.directions as f32);
         let (bs, bc) = a.sin_cos();
         let dir = [
             bc * pattern[0] - bs * pattern[1],
             bc * pattern[1] + bs * pattern[0],
         ];
-        for s in 0..steps {
-            let r = ((s as f32 + pattern[2]) / steps as f32).sqrt();
-            let q = [
-                p[0] + ((c_px[0] + dir[0] * (r * rs_px)) / l).round_ties_even() as i32
-                    * lattice as i32,
-                p[1] + ((c_px[1] + dir[1] * (r * rs_px)) / l).round_ties_even() as i32
-                    * lattice as i32,
-            ];
-            if q[0] < 0 || q[1] < 0 || q[0] >= width || q[1] >= f.size[1] as i32 {
+        for s in 0..px.steps {
+            let r = ((s as f32 + pattern[2]) / px.steps as f32).sqrt();
+            let off = px.snap([
+                c_px[0] + dir[0] * (r * rs_px),
+                c_px[1] + dir[1] * (r * rs_px),
+            ]);
+            let q = [p[0] + off[0], p[1] + off[1]];
+            let Some(sd) = px.depth_at(q) else {
                 continue;
-            }
+            };
             let lateral = f.view_position(centre(q), dc) - c;
             let l2 = (lateral.x * lateral.x + lateral.y * lateral.y) / (rs * rs);
             if l2 >= 1.0 {
@@ -312,7 +293,6 @@ pub fn sphere_pixel(
             }
             let h = rs * (1.0 - l2).sqrt();
             total += 2.0 * h;
-            let sd = prepared[(q[1] * width + q[0]) as usize].x;
             if sd > 0.0 {
                 occupied += (dc + h - sd.max(dc - h)).clamp(0.0, 2.0 * h);
             }
@@ -340,16 +320,23 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
     } else {
         (n, n)
     };
+    let px = Pixels {
+        f,
+        directions: options.directions,
+        steps: options.steps,
+        prepared,
+        lattice,
+    };
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
             let pattern = f.patterns[crate::jitter::pattern_index(x, y, dim)];
-            let (d, s, q) = (options.directions, options.steps, [x as i32, y as i32]);
+            let q = [x as i32, y as i32];
             out.push(match options.estimator {
-                crate::Estimator::Hbao => hbao_pixel(f, d, s, prepared, q, pattern, lattice),
-                crate::Estimator::Gtao => gtao_pixel(f, d, s, prepared, q, pattern, lattice),
-                crate::Estimator::Vo => sphere_pixel(f, d, s, prepared, q, pattern, lattice, 0.0),
-                crate::Estimator::Vao => sphere_pixel(f, d, s, prepared, q, pattern, lattice, 0.5),
+                crate::Estimator::Hbao => hbao_pixel(&px, q, pattern),
+                crate::Estimator::Gtao => gtao_pixel(&px, q, pattern),
+                crate::Estimator::Vo => sphere_pixel(&px, q, pattern, 0.0),
+                crate::Estimator::Vao => sphere_pixel(&px, q, pattern, 0.5),
             });
         }
     }

@@ -64,6 +64,17 @@ fn upload_r32(data: &[f32], w: u32, h: u32) -> wgpu::Texture {
     tex
 }
 
+/// Linear view depth in `view`, normals reconstructed, the whole texture.
+fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput<'_> {
+    AoInput {
+        depth: view,
+        convention: DepthConvention::LinearView,
+        projection,
+        normals: None,
+        viewport: None,
+    }
+}
+
 struct Run {
     prepared: Vec<Vec4>,
     ao: Vec<f32>,
@@ -392,13 +403,7 @@ fn split_layers_hold_exactly_the_prepared_pixels() {
     let raw = test_scene(&p, W, H);
     let tex = upload_r32(&raw, W, H);
     let view = tex.create_view(&Default::default());
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: p,
-        normals: None,
-        viewport: None,
-    };
+    let input = linear_input(&view, p);
     let params = AoParams::default();
     for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
         let n = mode.split();
@@ -763,13 +768,7 @@ fn bad_inputs_are_typed_errors_before_gpu_work() {
     let tex = upload_r32(&vec![2.0; (W * H) as usize], W, H);
     let view = tex.create_view(&Default::default());
     let ao = Ao::new(&c.device, AoOptions::default()).unwrap();
-    let good = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: persp(W, H),
-        normals: None,
-        viewport: None,
-    };
+    let good = linear_input(&view, persp(W, H));
     let p = AoParams::default();
     ao.validate(&good, &p).unwrap();
     let outside = AoInput {
@@ -876,13 +875,7 @@ fn timed_runs_report_every_pass_in_order() {
     let raw = test_scene(&p, W, H);
     let tex = upload_r32(&raw, W, H);
     let view = tex.create_view(&Default::default());
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: p,
-        normals: None,
-        viewport: None,
-    };
+    let input = linear_input(&view, p);
     let expected: [(AoOptions, &[&str]); 3] = [
         (
             AoOptions {
@@ -983,11 +976,8 @@ fn given_normals_are_decoded_and_normalized() {
         let view = tex.create_view(&Default::default());
         let mut ao = Ao::new(&c.device, randomized()).unwrap();
         let input = AoInput {
-            depth: &depth_view,
-            convention: DepthConvention::LinearView,
-            projection: persp(w, h),
             normals: Some((&view, encoding)),
-            viewport: None,
+            ..linear_input(&depth_view, persp(w, h))
         };
         c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &AoParams::default()))
             .unwrap();
