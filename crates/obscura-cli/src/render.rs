@@ -47,6 +47,8 @@ pub enum EstimatorArg {
     Vo,
     /// Volumetric AO (Szirmay-Kalos et al. 2009).
     Vao,
+    /// Scalable Ambient Obscurance (McGuire et al. 2012), depth-pyramid sampled.
+    Sao,
 }
 
 impl From<EstimatorArg> for Estimator {
@@ -56,6 +58,7 @@ impl From<EstimatorArg> for Estimator {
             EstimatorArg::Gtao => Estimator::Gtao,
             EstimatorArg::Vo => Estimator::Vo,
             EstimatorArg::Vao => Estimator::Vao,
+            EstimatorArg::Sao => Estimator::Sao,
         }
     }
 }

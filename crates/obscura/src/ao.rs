@@ -7,9 +7,14 @@
 //! deinterleaved, fused: prepare_split (writes N×N layers) ─▶ hbao_layers_merge (writes full res)
 //! deinterleaved:        prepare ─▶ deinterleave ─▶ hbao_layers ─▶ interleave
 //! ```
+//!
+//! Estimators that read the depth pyramid (SAO) get its levels built between prepare and
+//! the AO pass: `pyramid_from_full` (or `_from_layers`) then one `pyramid` pass per level.
 
 use crate::layout::layer_size;
-use crate::shader::{dispatch_size, DepthBinding, Pass, AO_FORMAT, PREPARED_FORMAT};
+use crate::shader::{
+    dispatch_size, DepthBinding, Pass, PyramidSource, AO_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT,
+};
 use crate::uniforms::FrameUniforms;
 use crate::{
     AoOptions, AoParams, DepthConvention, Error, NormalEncoding, Projection, Result, Viewport,
@@ -44,6 +49,8 @@ struct SizedResources {
     prepared_layers: Option<wgpu::TextureView>,
     // `ao_layers` (layer size × N² layers, AO_FORMAT, unfused deinterleaved only) lives
     // in the bind groups of `later`.
+    /// `pyramid`: max(1, size >> 1) with every mip, PYRAMID_FORMAT (estimators that use it).
+    pyramid: Option<wgpu::Texture>,
     /// `output`: full size, AO_FORMAT.
     output: wgpu::Texture,
     output_view: wgpu::TextureView,
@@ -179,7 +186,18 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, D2_ARRAY),
             storage_entry(2, AO_FORMAT, D2),
         ],
+        Pass::Pyramid { source } => vec![
+            texture_entry(1, UNFILTERED, dim(source == PyramidSource::Layers)),
+            storage_entry(2, PYRAMID_FORMAT, D2),
+        ],
     };
+    let pyramid = match pass {
+        Pass::AoFull { estimator } | Pass::AoLayered { estimator, .. } => estimator.uses_pyramid(),
+        _ => false,
+    };
+    let rest = rest
+        .into_iter()
+        .chain(pyramid.then(|| texture_entry(3, UNFILTERED, D2)));
     std::iter::once(UNIFORM_ENTRY).chain(rest).collect()
 }
 
@@ -265,6 +283,17 @@ fn make_texture(
     layers: u32,
     format: wgpu::TextureFormat,
 ) -> wgpu::Texture {
+    make_texture_mips(device, label, size, layers, 1, format)
+}
+
+fn make_texture_mips(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    layers: u32,
+    mips: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -272,7 +301,7 @@ fn make_texture(
             height: size.1,
             depth_or_array_layers: layers,
         },
-        mip_level_count: 1,
+        mip_level_count: mips,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
@@ -311,7 +340,22 @@ impl Ao {
             })
         });
         let estimator = options.estimator;
-        let later_passes = match (layered, options.fused) {
+        let pyramid_passes = if estimator.uses_pyramid() {
+            let source = if split_in_prepare {
+                PyramidSource::Layers
+            } else {
+                PyramidSource::Full
+            };
+            vec![
+                Pass::Pyramid { source },
+                Pass::Pyramid {
+                    source: PyramidSource::Mip,
+                },
+            ]
+        } else {
+            vec![]
+        };
+        let ao_passes = match (layered, options.fused) {
             (false, _) => vec![Pass::AoFull { estimator }],
             (true, true) => vec![Pass::AoLayered {
                 merge: true,
@@ -326,8 +370,11 @@ impl Ao {
                 Pass::Interleave,
             ],
         };
-        let later = later_passes
+        // The pyramid reads the full-resolution buffer, so in unfused modes it runs after
+        // prepare and before the split; in every mode before the AO pass.
+        let later = pyramid_passes
             .into_iter()
+            .chain(ao_passes)
             .map(|p| compile(device, p, &options))
             .collect();
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
@@ -483,47 +530,101 @@ impl Ao {
         });
         let output = make_texture(device, "obscura ao", full, 1, AO_FORMAT);
         let output_view = output.create_view(&Default::default());
+        let pyramid = self.options.estimator.uses_pyramid().then(|| {
+            let base = (1.max(size[0] >> 1), 1.max(size[1] >> 1));
+            let mips = base.0.max(base.1).ilog2() + 1;
+            make_texture_mips(
+                device,
+                "obscura depth pyramid",
+                base,
+                1,
+                mips,
+                PYRAMID_FORMAT,
+            )
+        });
+        let pyramid_all = pyramid.as_ref().map(|t| t.create_view(&Default::default()));
+        let pyramid_mip = |t: &wgpu::Texture, level: u32| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                base_mip_level: level,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
+        };
         let (fx, fy) = dispatch_size(size);
         let (lx, ly) = dispatch_size([lsize.0, lsize.1]);
         let full_dispatch = [fx, fy, 1];
         let layer_dispatch = [lx, ly, n * n];
-        let later = self
-            .later
-            .iter()
-            .enumerate()
-            .filter_map(|(i, c)| {
-                let (views, dispatch): (Vec<(u32, &wgpu::TextureView)>, _) = match c.pass {
-                    Pass::AoFull { .. } => (
-                        vec![(1, prepared.as_ref()?), (2, &output_view)],
-                        full_dispatch,
-                    ),
-                    Pass::AoLayered { merge, .. } => (
-                        vec![
-                            (1, prepared_layers.as_ref()?),
-                            (
-                                2,
-                                if merge {
-                                    &output_view
-                                } else {
-                                    ao_layers.as_ref()?
-                                },
-                            ),
-                        ],
-                        layer_dispatch,
-                    ),
-                    Pass::Deinterleave => (
-                        vec![(1, prepared.as_ref()?), (3, prepared_layers.as_ref()?)],
-                        layer_dispatch,
-                    ),
-                    Pass::Interleave => (
-                        vec![(1, ao_layers.as_ref()?), (2, &output_view)],
-                        full_dispatch,
-                    ),
-                    Pass::Prepare { .. } => return None,
-                };
-                Some((i, bind_group(device, c, &self.uniforms, &views), dispatch))
-            })
-            .collect();
+        // Binding 3 of the AO pass, for estimators that read the pyramid.
+        let pyramid_binding = |e: crate::Estimator| {
+            pyramid_all
+                .as_ref()
+                .filter(|_| e.uses_pyramid())
+                .map(|v| (3, v))
+        };
+        let mut later = Vec::new();
+        for (i, c) in self.later.iter().enumerate() {
+            let mut push = |views: Vec<(u32, &wgpu::TextureView)>, dispatch| {
+                later.push((i, bind_group(device, c, &self.uniforms, &views), dispatch));
+            };
+            match c.pass {
+                Pass::AoFull { estimator } => {
+                    if let Some(prepared) = &prepared {
+                        let mut views = vec![(1, prepared), (2, &output_view)];
+                        views.extend(pyramid_binding(estimator));
+                        push(views, full_dispatch);
+                    }
+                }
+                Pass::AoLayered { merge, estimator } => {
+                    let out = if merge {
+                        Some(&output_view)
+                    } else {
+                        ao_layers.as_ref()
+                    };
+                    if let (Some(layers), Some(out)) = (&prepared_layers, out) {
+                        let mut views = vec![(1, layers), (2, out)];
+                        views.extend(pyramid_binding(estimator));
+                        push(views, layer_dispatch);
+                    }
+                }
+                Pass::Deinterleave => {
+                    if let (Some(p), Some(l)) = (&prepared, &prepared_layers) {
+                        push(vec![(1, p), (3, l)], layer_dispatch);
+                    }
+                }
+                Pass::Interleave => {
+                    if let Some(l) = &ao_layers {
+                        push(vec![(1, l), (2, &output_view)], full_dispatch);
+                    }
+                }
+                Pass::Pyramid { source } => {
+                    let Some(t) = &pyramid else { continue };
+                    let dispatch = |level: u32| {
+                        let (x, y) =
+                            dispatch_size([1.max(t.width() >> level), 1.max(t.height() >> level)]);
+                        [x, y, 1]
+                    };
+                    match source {
+                        PyramidSource::Full | PyramidSource::Layers => {
+                            let src = if source == PyramidSource::Full {
+                                prepared.as_ref()
+                            } else {
+                                prepared_layers.as_ref()
+                            };
+                            if let Some(src) = src {
+                                push(vec![(1, src), (2, &pyramid_mip(t, 0))], dispatch(0));
+                            }
+                        }
+                        PyramidSource::Mip => {
+                            for level in 1..t.mip_level_count() {
+                                let (from, to) = (pyramid_mip(t, level - 1), pyramid_mip(t, level));
+                                push(vec![(1, &from), (2, &to)], dispatch(level));
+                            }
+                        }
+                    }
+                }
+                Pass::Prepare { .. } => {}
+            }
+        }
         self.sized = Some(SizedResources {
             size,
             prepare_dispatch: if needs_full_prepared {
@@ -533,6 +634,7 @@ impl Ao {
             },
             prepared,
             prepared_layers,
+            pyramid,
             output,
             output_view,
             later,
@@ -706,6 +808,12 @@ impl Ao {
     /// (`Rgba32Float`) when the mode has one (not fused deinterleaved), for debugging/tests.
     pub fn prepared_view(&self) -> Option<&wgpu::TextureView> {
         self.sized.as_ref().and_then(|s| s.prepared.as_ref())
+    }
+
+    /// The depth pyramid (`Rgba32Float`, `vec4(select, min, max, 0)`, mip m = level m + 1)
+    /// when the estimator uses one.
+    pub fn pyramid(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.pyramid.as_ref())
     }
 
     /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.

@@ -245,6 +245,11 @@ impl GpuContext {
     /// Reads a whole 2D texture or texture array (mip 0, every layer, layer-major) back as
     /// tightly packed bytes.
     pub fn read_texture(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+        self.read_texture_mip(texture, 0)
+    }
+
+    /// As [`GpuContext::read_texture`], for mip level `mip`.
+    pub fn read_texture_mip(&self, texture: &wgpu::Texture, mip: u32) -> Result<Vec<u8>> {
         let format = texture.format();
         let bpp = format
             .block_copy_size(Some(wgpu::TextureAspect::All))
@@ -254,7 +259,14 @@ impl GpuContext {
                 format,
                 expected: "a single-aspect colour or depth format",
             })?;
-        let (w, h) = (texture.width(), texture.height());
+        if mip >= texture.mip_level_count() {
+            return Err(Error::Gpu(format!(
+                "mip {mip} of a texture with {} levels",
+                texture.mip_level_count()
+            )));
+        }
+        let size = texture.size().mip_level_size(mip, texture.dimension());
+        let (w, h) = (size.width, size.height);
         let rows = h * texture.depth_or_array_layers();
         let row = w * bpp;
         let padded =
@@ -269,7 +281,7 @@ impl GpuContext {
             enc.copy_texture_to_buffer(
                 wgpu::TexelCopyTextureInfo {
                     texture,
-                    mip_level: 0,
+                    mip_level: mip,
                     origin: wgpu::Origin3d::ZERO,
                     aspect: if format.is_depth_stencil_format() {
                         wgpu::TextureAspect::DepthOnly
@@ -285,7 +297,7 @@ impl GpuContext {
                         rows_per_image: Some(h),
                     },
                 },
-                texture.size(),
+                size,
             );
             Ok(())
         })?;

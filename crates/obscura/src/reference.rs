@@ -87,6 +87,70 @@ pub struct Pixels<'a> {
     pub steps: u32,
     pub prepared: &'a [Vec4],
     pub lattice: u32,
+    /// The depth pyramid ([`pyramid`]), for estimators that read it; may be empty.
+    pub pyramid: &'a [PyramidLevel],
+}
+
+/// One level of the depth pyramid: `[select, min, max]` per texel, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PyramidLevel {
+    pub size: [u32; 2],
+    pub texels: Vec<[f32; 3]>,
+}
+
+impl PyramidLevel {
+    fn at(&self, p: [i32; 2]) -> [f32; 3] {
+        self.texels[(p[1] * self.size[0] as i32 + p[0]) as usize]
+    }
+}
+
+/// The depth pyramid of a prepared buffer (`size` pixels); mirrors shaders/pyramid.wgsl.
+/// Level `k` of the result is pyramid level `k + 1` (texture mip `k`).
+pub fn pyramid(size: [u32; 2], prepared: &[Vec4]) -> Vec<PyramidLevel> {
+    let level0 = PyramidLevel {
+        size,
+        texels: prepared.iter().map(|v| [v.x; 3]).collect(),
+    };
+    let base = [1.max(size[0] >> 1), 1.max(size[1] >> 1)];
+    let count = base[0].max(base[1]).ilog2() + 1;
+    let mut levels = vec![level0];
+    for _ in 0..count {
+        let src = levels.last().unwrap();
+        let dst = [1.max(src.size[0] >> 1), 1.max(src.size[1] >> 1)];
+        let ssz = [src.size[0] as i32, src.size[1] as i32];
+        let mut texels = Vec::with_capacity((dst[0] * dst[1]) as usize);
+        for ty in 0..dst[1] as i32 {
+            for tx in 0..dst[0] as i32 {
+                let t = [tx, ty];
+                let lo = [2 * tx, 2 * ty];
+                let hi: [i32; 2] = std::array::from_fn(|a| {
+                    let last = t[a] == dst[a] as i32 - 1;
+                    (if last { ssz[a] - 1 } else { lo[a] + 1 }).min(ssz[a] - 1)
+                });
+                let pick = [
+                    (lo[0] + ((ty & 1) ^ 1)).min(ssz[0] - 1),
+                    (lo[1] + ((tx & 1) ^ 1)).min(ssz[1] - 1),
+                ];
+                let (mut mn, mut mx) = (f32::MAX, 0.0f32);
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        let s = src.at([x, y]);
+                        if s[2] > 0.0 {
+                            mn = mn.min(s[1]);
+                            mx = mx.max(s[2]);
+                        }
+                    }
+                }
+                if mx <= 0.0 {
+                    mn = 0.0;
+                }
+                texels.push([src.at(pick)[0], mn, mx]);
+            }
+        }
+        levels.push(PyramidLevel { size: dst, texels });
+    }
+    levels.remove(0);
+    levels
 }
 
 /// The surface seen at a pixel: linear depth, normal, view position.
@@ -308,6 +372,54 @@ pub fn sphere_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4], offset: f32) ->
     (1.0 - (1.0 - open.min(1.0)) * f.ao_scale).clamp(0.0, 1.0)
 }
 
+/// SAO of one pixel; mirrors `estimate` in shaders/sao.wgsl. With an empty `px.pyramid`
+/// every sample reads full-resolution depth (used by tests to show the mips matter).
+pub fn sao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    const GOLDEN_TURN: f32 = 0.381_966_02;
+    let f = px.f;
+    let Some(Surface { d, n, pos }) = px.surface(p) else {
+        return 1.0;
+    };
+    let r_px = f.step_px(d, 0);
+    let r2 = f.radius * f.radius;
+    let count = px.directions * px.steps;
+    let mut sum = 0.0;
+    for i in 0..count {
+        let (bs, bc) = ((i as f32 * GOLDEN_TURN).fract() * std::f32::consts::TAU).sin_cos();
+        let dir = [
+            bc * pattern[0] - bs * pattern[1],
+            bc * pattern[1] + bs * pattern[0],
+        ];
+        let ss_r = (i as f32 + pattern[2]) / count as f32 * r_px;
+        let off = px.snap([dir[0] * ss_r, dir[1] * ss_r]);
+        let q = [p[0] + off[0], p[1] + off[1]];
+        let Some(full_depth) = px.depth_at(q) else {
+            continue;
+        };
+        let level = ((ss_r.max(1.0) as u32).ilog2() as i32 - 3).clamp(0, px.pyramid.len() as i32);
+        let sd = if level == 0 {
+            full_depth
+        } else {
+            let l = &px.pyramid[level as usize - 1];
+            let t = [
+                (q[0] >> level).min(l.size[0] as i32 - 1),
+                (q[1] >> level).min(l.size[1] as i32 - 1),
+            ];
+            l.at(t)[0]
+        };
+        if sd <= 0.0 {
+            continue;
+        }
+        let v = f.view_position(centre(q), sd) - pos;
+        let vv = v.dot(v);
+        if vv >= r2 {
+            continue;
+        }
+        sum += (v.dot(n) - vv.sqrt() * f.sin_bias).max(0.0) / (vv + 0.01 * r2);
+    }
+    (1.0 - sum * f.radius * f.ao_scale).clamp(0.0, 1.0)
+}
+
 /// AO over the whole viewport with `options`' estimator in its mode, computed per
 /// full-resolution pixel: the
 /// randomized pass takes the pattern of the pixel's place in the 4×4 tile; an N×N
@@ -320,12 +432,18 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
     } else {
         (n, n)
     };
+    let levels = if options.estimator.uses_pyramid() {
+        pyramid(f.size, prepared)
+    } else {
+        Vec::new()
+    };
     let px = Pixels {
         f,
         directions: options.directions,
         steps: options.steps,
         prepared,
         lattice,
+        pyramid: &levels,
     };
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..f.size[1] {
@@ -337,6 +455,7 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
                 crate::Estimator::Gtao => gtao_pixel(&px, q, pattern),
                 crate::Estimator::Vo => sphere_pixel(&px, q, pattern, 0.0),
                 crate::Estimator::Vao => sphere_pixel(&px, q, pattern, 0.5),
+                crate::Estimator::Sao => sao_pixel(&px, q, pattern),
             });
         }
     }

@@ -24,15 +24,21 @@ pub enum Estimator {
     /// Volumetric AO (Szirmay-Kalos et al. 2009): occupied fraction of a sphere of radius
     /// R/2 centred R/2 along the normal. Samples/pixel = directions × steps.
     Vao,
+    /// Scalable Ambient Obscurance (McGuire, Mara & Luebke, HPG 2012): `directions × steps`
+    /// samples on a golden-angle spiral, each read from the level of the depth pyramid its
+    /// distance calls for (level ⌊log2(r_px / 8)⌋), Alchemy AO's obscurance sum with
+    /// σ = R (see shaders/sao.wgsl). Samples/pixel = directions × steps.
+    Sao,
 }
 
 impl Estimator {
     /// Every estimator.
-    pub const ALL: [Estimator; 4] = [
+    pub const ALL: [Estimator; 5] = [
         Estimator::Hbao,
         Estimator::Gtao,
         Estimator::Vo,
         Estimator::Vao,
+        Estimator::Sao,
     ];
 
     /// Short name used by the CLI, labels and reports.
@@ -42,14 +48,20 @@ impl Estimator {
             Estimator::Gtao => "gtao",
             Estimator::Vo => "vo",
             Estimator::Vao => "vao",
+            Estimator::Sao => "sao",
         }
+    }
+
+    /// Whether the estimator reads the depth pyramid (built by extra passes).
+    pub fn uses_pyramid(self) -> bool {
+        self == Estimator::Sao
     }
 }
 
 /// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
 /// that a preset costs the same number of samples per pixel with every estimator:
 ///
-/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO directions × steps |
+/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO, SAO directions × steps |
 /// |---|---|---|---|
 /// | `Low` | 8 | 2 × 2 | 4 × 2 |
 /// | `Medium` | 16 | 2 × 4 | 4 × 4 |
@@ -232,7 +244,9 @@ impl AoOptions {
     pub fn samples_per_pixel(&self) -> u32 {
         match self.estimator {
             Estimator::Gtao => 2 * self.directions * self.steps,
-            Estimator::Hbao | Estimator::Vo | Estimator::Vao => self.directions * self.steps,
+            Estimator::Hbao | Estimator::Vo | Estimator::Vao | Estimator::Sao => {
+                self.directions * self.steps
+            }
         }
     }
 }

@@ -13,6 +13,19 @@ pub const WORKGROUP_SIZE: u32 = 8;
 pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Storage format of the AO output: one channel, 1 = unoccluded, 0 = fully occluded.
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
+pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Where the first pyramid level reads linear depth from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PyramidSource {
+    /// The full-resolution prepared buffer.
+    Full,
+    /// The deinterleaved prepared layers (fused deinterleaved modes have no full buffer).
+    Layers,
+    /// The previous pyramid level.
+    Mip,
+}
 
 /// How the depth input is bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,6 +56,8 @@ pub enum Pass {
     Deinterleave,
     /// AO layers → full resolution (unfused merge).
     Interleave,
+    /// One level of the min/max depth pyramid (also SAO's depth mips).
+    Pyramid { source: PyramidSource },
 }
 
 impl Pass {
@@ -67,6 +82,13 @@ impl Pass {
             }
         }
         v.extend([Pass::Deinterleave, Pass::Interleave]);
+        for source in [
+            PyramidSource::Full,
+            PyramidSource::Layers,
+            PyramidSource::Mip,
+        ] {
+            v.push(Pass::Pyramid { source });
+        }
         v
     }
 
@@ -104,6 +126,11 @@ impl Pass {
             } => ao_label(estimator, 2),
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
+            Pass::Pyramid { source } => match source {
+                PyramidSource::Full => "pyramid_from_full",
+                PyramidSource::Layers => "pyramid_from_layers",
+                PyramidSource::Mip => "pyramid",
+            },
         }
     }
 
@@ -113,6 +140,7 @@ impl Pass {
             Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
             Estimator::Gtao => include_str!("../shaders/gtao.wgsl"),
             Estimator::Vo | Estimator::Vao => include_str!("../shaders/sphere.wgsl"),
+            Estimator::Sao => include_str!("../shaders/sao.wgsl"),
         };
         const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
@@ -159,6 +187,14 @@ impl Pass {
                 include_str!("../shaders/deinterleave.wgsl"),
             ],
             Pass::Interleave => vec![STORE_AO_FULL, include_str!("../shaders/interleave.wgsl")],
+            Pass::Pyramid { source } => vec![
+                match source {
+                    PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
+                    PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
+                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
+                },
+                include_str!("../shaders/pyramid.wgsl"),
+            ],
         }
     }
 
@@ -189,9 +225,13 @@ impl Pass {
         };
         match self {
             Pass::Prepare { layers: false, .. } => vec![],
-            Pass::Prepare { layers: true, .. } | Pass::Deinterleave | Pass::Interleave => {
-                vec![split]
-            }
+            Pass::Prepare { layers: true, .. }
+            | Pass::Deinterleave
+            | Pass::Interleave
+            | Pass::Pyramid {
+                source: PyramidSource::Layers,
+            } => vec![split],
+            Pass::Pyramid { .. } => vec![],
             Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),
             Pass::AoLayered { estimator: e, .. } => {
                 [&estimator[..], &sphere(e)[..], &[split]].concat()
@@ -208,6 +248,7 @@ fn ao_label(e: Estimator, kind: usize) -> &'static str {
         Estimator::Gtao => ["gtao", "gtao_layers_merge", "gtao_layers"],
         Estimator::Vo => ["vo", "vo_layers_merge", "vo_layers"],
         Estimator::Vao => ["vao", "vao_layers_merge", "vao_layers"],
+        Estimator::Sao => ["sao", "sao_layers_merge", "sao_layers"],
     };
     names[kind]
 }

@@ -35,7 +35,8 @@ crate::gpu_struct! {
         /// sin(tangent bias angle).
         pub sin_bias: f32,
         /// Maps the estimator's summed occlusion to [0, 1]: HBAO strength / (directions ·
-        /// (1 − sin_bias)); GTAO strength / directions; VO and VAO strength.
+        /// (1 − sin_bias)); GTAO strength / directions; VO and VAO strength; SAO
+        /// 2 · strength / samples.
         pub ao_scale: f32,
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
@@ -89,6 +90,10 @@ impl FrameUniforms {
                 }
                 crate::Estimator::Gtao => params.strength / options.directions as f32,
                 crate::Estimator::Vo | crate::Estimator::Vao => params.strength,
+                // Alchemy AO's 2σ/s with σ = R folded into the sum (shaders/sao.wgsl).
+                crate::Estimator::Sao => {
+                    2.0 * params.strength / (options.directions * options.steps) as f32
+                }
             },
             patterns: pattern_table(options.directions),
         })
