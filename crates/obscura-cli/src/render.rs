@@ -100,10 +100,10 @@ pub struct SampleArgs {
     /// for every estimator. --directions and --steps override it.
     #[arg(long, value_enum, default_value_t = PresetArg::High)]
     pub preset: PresetArg,
-    /// Directions (HBAO, VO, VAO) or slices (GTAO) per pixel (1..=32). Default: the preset's.
+    /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel (1..=64). Default: the preset's.
     #[arg(long)]
     pub directions: Option<u32>,
-    /// Steps per direction (1..=32). Default: the preset's.
+    /// Steps per direction (1..=64). Default: the preset's.
     #[arg(long)]
     pub steps: Option<u32>,
 }

@@ -30,6 +30,13 @@ pub fn pattern_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
     })
 }
 
+/// The table with every entry the same fixed pattern: rotation half a sector, offset ½
+/// (no jitter; [`crate::AoOptions::jitter`]).
+pub fn fixed_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
+    let theta = 0.5 * std::f32::consts::TAU / directions.max(1) as f32;
+    [[theta.cos(), theta.sin(), 0.5, 0.0]; PATTERN_COUNT]
+}
+
 /// Index into [`pattern_table`] of full-resolution pixel `(x, y)` when sampling patterns
 /// repeat every `dim` pixels (4 for the randomized pass and 4×4 deinterleaving, 2 for 2×2).
 pub fn pattern_index(x: u32, y: u32, dim: u32) -> usize {

@@ -128,10 +128,11 @@ impl AoMode {
 pub struct AoOptions {
     /// The estimator. Default: GTAO.
     pub estimator: Estimator,
-    /// Directions (HBAO, VO, VAO) or slices (GTAO) per pixel. Unit: count. Range 1..=32.
+    /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel. Unit: count. Range 1..=64
+    /// (64 × 64 is the screen-space reference's brute force).
     /// Default 4 (GTAO's `Preset::High`; [`AoOptions::preset`] gives every estimator's).
     pub directions: u32,
-    /// Ray-march steps per direction. Unit: count. Range 1..=32. Default 4.
+    /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 4.
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
     /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved2`, the best
@@ -144,6 +145,10 @@ pub struct AoOptions {
     /// straight to full resolution (true, default), instead of separate split and merge
     /// passes over full-resolution intermediates (false; kept to measure the difference).
     pub fused: bool,
+    /// Per-pixel (or per-layer) rotation and offset of the samples (true, default). False:
+    /// every pixel samples the same fixed pattern (rotation half a sector, offset ½) — the
+    /// screen-space reference evaluates the estimator's integral this way, with no noise.
+    pub jitter: bool,
 }
 
 impl Default for AoOptions {
@@ -155,6 +160,7 @@ impl Default for AoOptions {
             steps: 4,
             mode: AoMode::default(),
             fused: true,
+            jitter: true,
         }
     }
 }
@@ -227,17 +233,33 @@ impl AoOptions {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         check(
-            (1..=32).contains(&self.directions),
+            (1..=64).contains(&self.directions),
             "directions",
             self.directions,
-            "an integer in 1..=32",
+            "an integer in 1..=64",
         )?;
         check(
-            (1..=32).contains(&self.steps),
+            (1..=64).contains(&self.steps),
             "steps",
             self.steps,
-            "an integer in 1..=32",
+            "an integer in 1..=64",
         )
+    }
+
+    /// The screen-space reference of `estimator`: its integral brute-forced in one
+    /// full-resolution pass with no jitter, 64 directions (slices) × 64 steps — what the
+    /// estimator converges to as samples increase, given one depth layer. Comparing it with
+    /// ray-traced AO measures the limits of the depth buffer; comparing an estimate with it
+    /// measures the estimate's sampling error.
+    pub fn screen_reference(estimator: Estimator) -> Self {
+        Self {
+            estimator,
+            directions: 64,
+            steps: 64,
+            mode: AoMode::Randomized,
+            fused: true,
+            jitter: false,
+        }
     }
 
     /// Samples per pixel of the AO pass.

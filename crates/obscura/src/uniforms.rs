@@ -1,6 +1,6 @@
 //! The per-frame uniform block shared by every pass, and how it is derived from the inputs.
 
-use crate::jitter::{pattern_table, PATTERN_COUNT};
+use crate::jitter::{fixed_table, pattern_table, PATTERN_COUNT};
 use crate::{AoOptions, AoParams, DepthConvention, NormalEncoding, Projection, Result, Viewport};
 
 crate::gpu_struct! {
@@ -95,7 +95,11 @@ impl FrameUniforms {
                     2.0 * params.strength / (options.directions * options.steps) as f32
                 }
             },
-            patterns: pattern_table(options.directions),
+            patterns: if options.jitter {
+                pattern_table(options.directions)
+            } else {
+                fixed_table(options.directions)
+            },
         })
     }
 
