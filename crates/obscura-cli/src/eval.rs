@@ -60,7 +60,7 @@ pub struct EvalArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "gtao,hbao,vo,vao"
+        default_value = "gtao,hbao,vo,vao,sao"
     )]
     pub estimators: Vec<EstimatorArg>,
     #[command(flatten)]
@@ -91,6 +91,10 @@ pub struct EvalArgs {
     /// Machine-readable results: one record per view and mode.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Skip the screen-space references (each estimator's integral brute-forced with 64 × 64
+    /// samples and no jitter; slow on a CPU adapter).
+    #[arg(long)]
+    pub no_screen_reference: bool,
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
@@ -106,10 +110,16 @@ struct Job {
 struct Row {
     view: String,
     variant: String,
+    /// Estimator name ("none" for the white baseline) and mode ("" for the baseline,
+    /// "screen-reference" for the screen-space reference).
+    estimator: String,
+    mode: String,
     rmse: f32,
     bias: f32,
     ssim: f32,
     band_rmse: f32,
+    /// RMSE against the estimator's own screen-space reference: its sampling error.
+    screen_rmse: Option<f32>,
     ms: Option<f64>,
 }
 
@@ -251,6 +261,20 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         .iter()
         .map(|(_, o)| Ao::new(&ctx.device, *o))
         .collect::<Result<_, _>>()?;
+    let mut estimators: Vec<Estimator> = Vec::new();
+    for &e in &a.estimators {
+        if !estimators.contains(&e.into()) {
+            estimators.push(e.into());
+        }
+    }
+    let mut screen_aos: Vec<(Estimator, Ao)> = if a.no_screen_reference {
+        Vec::new()
+    } else {
+        estimators
+            .iter()
+            .map(|&e| Ok((e, Ao::new(&ctx.device, AoOptions::screen_reference(e))?)))
+            .collect::<Result<_, obscura::Error>>()?
+    };
     let (w, h) = (a.width, a.height);
     let mut rows = Vec::new();
     let mut sections = String::new();
@@ -353,33 +377,77 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .zip(&mask)
                 .map(|(b, m)| b && *m)
                 .collect();
+        let mut screen = Vec::new();
+        for (e, ao) in screen_aos.iter_mut() {
+            let t = Instant::now();
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+            eprintln!(
+                "  {} screen-space reference: {:.1} s",
+                e.name(),
+                t.elapsed().as_secs_f64()
+            );
+            screen.push((*e, out));
+        }
+        let screen_of = |e: Estimator| screen.iter().find(|s| s.0 == e).map(|s| &s.1);
         let white = vec![1.0f32; (w * h) as usize];
-        let mut results: Vec<(String, Vec<f32>, Option<f64>)> =
-            vec![("white (no AO)".into(), white, None)];
+        // (label, estimator, mode, image, time)
+        let mut results: Vec<(String, String, String, Vec<f32>, Option<f64>)> = vec![(
+            "white (no AO)".into(),
+            "none".into(),
+            String::new(),
+            white,
+            None,
+        )];
+        for (e, img) in &screen {
+            results.push((
+                format!("{} screen-space reference", e.name()),
+                e.name().into(),
+                "screen-reference".into(),
+                img.clone(),
+                None,
+            ));
+        }
         for (i, ao) in aos.iter().enumerate() {
             let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
-            results.push((variants[i].0.clone(), out, Some(median(times[i].clone()))));
+            let o = variants[i].1;
+            results.push((
+                variants[i].0.clone(),
+                o.estimator.name().into(),
+                o.mode.name().into(),
+                out,
+                Some(median(times[i].clone())),
+            ));
         }
         let r = &reference.ao;
-        for (name, img, ms) in &results {
+        for (name, estimator, mode, img, ms) in &results {
+            let screen_rmse = ms
+                .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
+                .and_then(screen_of)
+                .map(|s| metrics::rmse(img, s, &mask));
             rows.push(Row {
                 view: job.name.clone(),
                 variant: name.clone(),
+                estimator: estimator.clone(),
+                mode: mode.clone(),
                 rmse: metrics::rmse(img, r, &mask),
                 bias: metrics::bias(img, r, &mask),
                 ssim: metrics::ssim(img, r, w as usize, h as usize, &mask),
                 band_rmse: metrics::rmse(img, r, &band),
+                screen_rmse,
                 ms: *ms,
             });
         }
         for row in rows.iter().filter(|x| x.view == job.name) {
             eprintln!(
-                "  {:<16} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  band RMSE {:.4}  {}",
+                "  {:<30} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  band RMSE {:.4}  {}{}",
                 row.variant,
                 row.rmse,
                 row.bias,
                 row.ssim,
                 row.band_rmse,
+                row.screen_rmse
+                    .map_or(String::new(), |m| format!("vs screen ref {m:.4}  ")),
                 row.ms.map_or(String::new(), |m| format!("{m:.1} ms"))
             );
         }
@@ -403,7 +471,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 "---|".repeat(variants.len()),
                 pic("reference"),
             );
-            for (name, img, _) in results.iter().skip(1) {
+            for (name, _, _, img, _) in results.iter().skip(1 + screen.len()) {
                 write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
                 write_error(
                     &dir.join(pic(&format!("{name}-error"))),
@@ -420,7 +488,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 sections,
                 "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
             );
-            for (name, _, _) in results.iter().skip(1) {
+            for (name, _, _, _, _) in results.iter().skip(1 + screen.len()) {
                 let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
             }
             sections.push('\n');
@@ -433,7 +501,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let rel = relative_dir(dir, md);
         write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
         let mut doc = format!(
-            "# Quality against ray-traced ground truth\n\nGenerated by `{}`.\n\nReference: CPU ray tracing of the scene triangles, cosine-weighted hemisphere, {} rays per pixel, hits within the radius {} (see `crates/obscura-eval`). Metrics over pixels where both the reference and the G-buffer see a surface; the band is the pixels within 2 px of a depth discontinuity (> 5% relative). Bias = mean(estimate − reference): positive means too bright. Times: median wall clock of prepare + AO on {}.\n\n",
+            "# Quality against ray-traced ground truth\n\nGenerated by `{}`.\n\nReference: CPU ray tracing of the scene triangles, cosine-weighted hemisphere, {} rays per pixel, hits within the radius {} (see `crates/obscura-eval`). Metrics over pixels where both the reference and the G-buffer see a surface; the band is the pixels within 2 px of a depth discontinuity (> 5% relative). Bias = mean(estimate − reference): positive means too bright. Each estimator's *screen-space reference* is its own integral brute-forced (64 × 64 samples, no jitter, `AoOptions::screen_reference`): its error against the ray tracer is what one depth layer allows that estimator, and *RMSE vs screen ref* is an estimate's sampling error. Times: median wall clock of prepare + AO on {}.\n\n",
             std::env::args().collect::<Vec<_>>().join(" "),
             a.rays,
             match a.falloff {
@@ -534,17 +602,18 @@ fn write_error(
 }
 
 fn summary_table(rows: &[Row]) -> String {
-    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | ms |\n|---|---|---|---|---|---|---|\n");
+    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref | ms |\n|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} |",
+            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} | {} |",
             r.view,
             r.variant,
             r.rmse,
             r.bias,
             r.ssim,
             r.band_rmse,
+            r.screen_rmse.map_or("–".to_string(), |m| format!("{m:.4}")),
             r.ms.map_or("–".to_string(), |m| format!("{m:.1}"))
         );
     }
@@ -564,14 +633,15 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     for (i, r) in rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"median_ms\": {}}}{}",
+            "    {{\"view\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"median_ms\": {}}}{}",
             r.view,
-            if r.ms.is_none() { "none" } else { r.variant.split(' ').next().unwrap_or("") },
-            if r.ms.is_none() { "" } else { r.variant.split(' ').nth(1).unwrap_or("") },
+            r.estimator,
+            r.mode,
             r.rmse,
             r.bias,
             r.ssim,
             r.band_rmse,
+            r.screen_rmse.map_or("null".to_string(), |m| format!("{m:.5}")),
             r.ms.map_or("null".to_string(), |m| format!("{m:.3}")),
             if i + 1 == rows.len() { "" } else { "," }
         );
