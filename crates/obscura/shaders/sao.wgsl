@@ -26,17 +26,21 @@ const LOG2_MIP_STRIDE: i32 = 3;
 
 @group(0) @binding(3) var pyramid: texture_2d<f32>;
 
-// Depth of full-resolution pixel `q`, `r_px` pixels from the centre.
+// Depth of pixel `q` of this frame's grid, `r_px` pixels from the centre. Pyramid level L
+// of the full-resolution buffer is level L - pyramid_offset of this grid (below full
+// resolution the pyramid still comes from the full-resolution buffer).
 fn sao_depth(q: vec2<i32>, r_px: f32) -> f32 {
     // floor(log2(r)) as the paper's findMSB of the integer radius: exact, no log2 rounding.
-    let level = clamp(i32(firstLeadingBit(u32(max(r_px, 1.0)))) - LOG2_MIP_STRIDE, 0, i32(textureNumLevels(pyramid)));
+    let most = i32(textureNumLevels(pyramid)) - i32(frame.pyramid_offset);
+    let level = clamp(i32(firstLeadingBit(u32(max(r_px, 1.0)))) - LOG2_MIP_STRIDE, 0, most);
     if level == 0 {
         return sample_depth(q);
     }
+    let mip = u32(level) + frame.pyramid_offset - 1u;
     // Mip sizes from the base size (wgpu's rule, max(1, base >> m)): lavapipe answered
     // textureDimensions(t, level) with another level's size.
-    let size = max(vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(u32(level - 1)), vec2<i32>(1));
-    return textureLoad(pyramid, min(q >> vec2<u32>(u32(level)), size - 1), level - 1).x;
+    let size = max(vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(mip), vec2<i32>(1));
+    return textureLoad(pyramid, min(q >> vec2<u32>(u32(level)), size - 1), mip).x;
 }
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {

@@ -17,7 +17,8 @@ use crate::shader::{
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
-    AoOptions, AoParams, DepthConvention, Error, NormalEncoding, Projection, Result, Viewport,
+    AoOptions, AoParams, Denoise, DepthConvention, Error, NormalEncoding, Projection, Result,
+    Upsampler, Viewport,
 };
 
 /// What the caller hands over each frame.
@@ -38,26 +39,231 @@ pub struct AoInput<'a> {
     pub viewport: Option<Viewport>,
 }
 
-/// Textures and bind groups that depend on the viewport size. Declared in one place:
-/// name, size rule, format, layers.
+/// A texture the passes read or write. Sizes: `full` = the viewport, `work` = the AO's
+/// working resolution (`ceil(full / resolution factor)`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Res {
+    /// `prepared`: full size, PREPARED_FORMAT.
+    Prepared,
+    /// `prepared_layers`: work layer size × N² layers, PREPARED_FORMAT (deinterleaved).
+    PreparedLayers,
+    /// `prepared` downsampled k ≥ 1 times by the depth rule: `ceil(full / 2^k)`.
+    Level(u32),
+    /// `pyramid`: `max(1, full >> 1)` with every mip, PYRAMID_FORMAT; all mips.
+    Pyramid,
+    /// One mip of the pyramid.
+    PyramidMip(u32),
+    /// `ao_work`: work size, AO_FORMAT (when post-processing follows the AO pass).
+    AoWork,
+    /// `ao_tmp`: work size, AO_FORMAT (between the blur's two axes).
+    AoTmp,
+    /// `ao_layers`: work layer size × N², AO_FORMAT (unfused deinterleaved).
+    AoLayers,
+    /// `ao_half`: `ceil(work / 2)`, AO_FORMAT (box or tent denoise).
+    AoHalf,
+    /// `output`: full size, AO_FORMAT.
+    Output,
+}
+
+/// Which uniform buffer a pass binds: the full-resolution frame or the working one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FrameAt {
+    Full,
+    Work,
+}
+
+/// The invocation grid of a pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Grid {
+    /// One invocation per pixel of a prepared level (0 = full resolution).
+    Level(u32),
+    /// Work layer texels × N² layers.
+    Layers,
+    /// One dispatch per pyramid mip after the first (each reads the one before).
+    PyramidMips,
+    /// Pyramid mip 0.
+    PyramidBase,
+}
+
+/// One pass of the plan: what it binds (binding → texture), with which frame, over which grid.
+#[derive(Clone, Debug)]
+struct Step {
+    pass: Pass,
+    views: Vec<(u32, Res)>,
+    frame: FrameAt,
+    grid: Grid,
+}
+
+/// The passes `options` run after prepare, in order, and the prepare pass's target.
+fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
+    let n = o.mode.split();
+    let work_level = o.resolution.factor().ilog2();
+    let up_level = o.upsample_factor().ilog2();
+    let direct = o.direct();
+    let upsample = up_level > 0;
+    let fused_prepare = direct && n > 1 && o.fused;
+    let prepare_target = if fused_prepare {
+        Res::PreparedLayers
+    } else {
+        Res::Prepared
+    };
+    let level = |k: u32| if k == 0 { Res::Prepared } else { Res::Level(k) };
+    let work_prepared = level(work_level);
+    let step = |pass, views: Vec<(u32, Res)>, frame, grid| Step {
+        pass,
+        views,
+        frame,
+        grid,
+    };
+    let mut steps = Vec::new();
+    let classified = upsample && o.upsample == Upsampler::Classified;
+    if o.estimator.uses_pyramid() || classified {
+        let source = if fused_prepare {
+            PyramidSource::Layers
+        } else {
+            PyramidSource::Full
+        };
+        steps.push(step(
+            Pass::Pyramid { source },
+            vec![(1, prepare_target), (2, Res::PyramidMip(0))],
+            FrameAt::Full,
+            Grid::PyramidBase,
+        ));
+        let mips = Pass::Pyramid {
+            source: PyramidSource::Mip,
+        };
+        steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
+    }
+    for k in 1..=work_level.max(up_level) {
+        steps.push(step(
+            Pass::Downsample { rule: o.downsample },
+            vec![(1, level(k - 1)), (2, Res::Level(k))],
+            FrameAt::Full,
+            Grid::Level(k),
+        ));
+    }
+    let ao_target = if direct { Res::Output } else { Res::AoWork };
+    let pyramid = |mut v: Vec<(u32, Res)>| {
+        if o.estimator.uses_pyramid() {
+            v.push((3, Res::Pyramid));
+        }
+        v
+    };
+    let e = o.estimator;
+    let layers = |merge| Pass::AoLayered {
+        merge,
+        estimator: e,
+    };
+    match (n > 1, fused_prepare, direct) {
+        (false, ..) => steps.push(step(
+            Pass::AoFull { estimator: e },
+            pyramid(vec![(1, work_prepared), (2, ao_target)]),
+            FrameAt::Work,
+            Grid::Level(work_level),
+        )),
+        (true, true, _) => steps.push(step(
+            layers(true),
+            pyramid(vec![(1, Res::PreparedLayers), (2, Res::Output)]),
+            FrameAt::Work,
+            Grid::Layers,
+        )),
+        (true, false, unfused_direct) => {
+            steps.push(step(
+                Pass::Deinterleave,
+                vec![(1, work_prepared), (3, Res::PreparedLayers)],
+                FrameAt::Work,
+                Grid::Layers,
+            ));
+            // Below full resolution (or before denoising) the merge is always fused; the
+            // separate interleave pass is kept for the direct unfused mode, to measure it.
+            if unfused_direct {
+                steps.push(step(
+                    layers(false),
+                    pyramid(vec![(1, Res::PreparedLayers), (2, Res::AoLayers)]),
+                    FrameAt::Work,
+                    Grid::Layers,
+                ));
+                steps.push(step(
+                    Pass::Interleave,
+                    vec![(1, Res::AoLayers), (2, Res::Output)],
+                    FrameAt::Work,
+                    Grid::Level(0),
+                ));
+            } else {
+                steps.push(step(
+                    layers(true),
+                    pyramid(vec![(1, Res::PreparedLayers), (2, Res::AoWork)]),
+                    FrameAt::Work,
+                    Grid::Layers,
+                ));
+            }
+        }
+    }
+    match o.denoise {
+        Denoise::None => {}
+        Denoise::Blur => {
+            let last = if upsample { Res::AoWork } else { Res::Output };
+            for (vertical, from, to) in [(false, Res::AoWork, Res::AoTmp), (true, Res::AoTmp, last)] {
+                steps.push(step(
+                    Pass::Blur { vertical },
+                    vec![(1, work_prepared), (2, from), (3, to)],
+                    FrameAt::Work,
+                    Grid::Level(work_level),
+                ));
+            }
+        }
+        Denoise::Box | Denoise::Tent => steps.push(step(
+            Pass::AoDownsample {
+                tent: o.denoise == Denoise::Tent,
+            },
+            vec![(1, Res::AoWork), (2, Res::AoHalf)],
+            FrameAt::Full,
+            Grid::Level(work_level + 1),
+        )),
+    }
+    if upsample {
+        let from = if o.denoise.downsamples() {
+            Res::AoHalf
+        } else {
+            Res::AoWork
+        };
+        let mut views = vec![(1, Res::Prepared), (2, from), (3, level(up_level)), (4, Res::Output)];
+        if classified {
+            views.push((5, Res::Pyramid));
+        }
+        steps.push(step(
+            Pass::Upsample {
+                upsampler: o.upsample,
+            },
+            views,
+            FrameAt::Full,
+            Grid::Level(0),
+        ));
+    }
+    (prepare_target, steps)
+}
+
+/// Textures and bind groups that depend on the viewport size.
 #[derive(Debug)]
 struct SizedResources {
     size: [u32; 2],
-    /// `prepared`: full size, PREPARED_FORMAT (randomized, or unfused deinterleaved).
-    prepared: Option<wgpu::TextureView>,
-    /// `prepared_layers`: layer size × N² layers, PREPARED_FORMAT (deinterleaved).
-    prepared_layers: Option<wgpu::TextureView>,
-    // `ao_layers` (layer size × N² layers, AO_FORMAT, unfused deinterleaved only) lives
-    // in the bind groups of `later`.
-    /// `pyramid`: max(1, size >> 1) with every mip, PYRAMID_FORMAT (estimators that use it).
-    pyramid: Option<wgpu::Texture>,
-    /// `output`: full size, AO_FORMAT.
-    output: wgpu::Texture,
-    output_view: wgpu::TextureView,
+    /// Every texture of the plan, by name.
+    textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)>,
     /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
     prepare_dispatch: [u32; 3],
-    /// Bind groups of every pass after prepare, in order, with their dispatch sizes.
+    /// Bind groups of every pass after prepare, in order: (compiled index, bind group,
+    /// workgroups).
     later: Vec<(usize, wgpu::BindGroup, [u32; 3])>,
+}
+
+impl SizedResources {
+    fn view(&self, r: Res) -> Option<&wgpu::TextureView> {
+        self.textures.iter().find(|t| t.0 == r).map(|t| &t.2)
+    }
+
+    fn texture(&self, r: Res) -> Option<&wgpu::Texture> {
+        self.textures.iter().find(|t| t.0 == r).map(|t| &t.1)
+    }
 }
 
 /// How [`Ao::run_timed`] measures each pass.
@@ -96,9 +302,14 @@ pub struct Ao {
     options: AoOptions,
     /// Prepare for [depth-format, float] inputs × [given, reconstructed] normals.
     prepare: [[Compiled; 2]; 2],
-    /// The passes after prepare, in execution order.
+    /// The pipelines of the passes after prepare (each compiled once).
     later: Vec<Compiled>,
+    /// What prepare writes, and the passes after it in execution order.
+    prepare_target: Res,
+    steps: Vec<Step>,
+    /// Frame uniforms at full and at working resolution (the same when full).
     uniforms: wgpu::Buffer,
+    work_uniforms: wgpu::Buffer,
     dummy_normals: wgpu::TextureView,
     max_dim: u32,
     sized: Option<SizedResources>,
@@ -189,6 +400,31 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         Pass::Pyramid { source } => vec![
             texture_entry(1, UNFILTERED, dim(source == PyramidSource::Layers)),
             storage_entry(2, PYRAMID_FORMAT, D2),
+        ],
+        Pass::Downsample { .. } => vec![
+            texture_entry(1, UNFILTERED, D2),
+            storage_entry(2, PREPARED_FORMAT, D2),
+        ],
+        Pass::Upsample { upsampler } => {
+            let mut v = vec![
+                texture_entry(1, UNFILTERED, D2),
+                texture_entry(2, UNFILTERED, D2),
+                texture_entry(3, UNFILTERED, D2),
+                storage_entry(4, AO_FORMAT, D2),
+            ];
+            if upsampler == Upsampler::Classified {
+                v.push(texture_entry(5, UNFILTERED, D2));
+            }
+            v
+        }
+        Pass::Blur { .. } => vec![
+            texture_entry(1, UNFILTERED, D2),
+            texture_entry(2, UNFILTERED, D2),
+            storage_entry(3, AO_FORMAT, D2),
+        ],
+        Pass::AoDownsample { .. } => vec![
+            texture_entry(1, UNFILTERED, D2),
+            storage_entry(2, AO_FORMAT, D2),
         ],
     };
     let pyramid = match pass {
@@ -281,16 +517,6 @@ fn make_texture(
     label: &str,
     size: (u32, u32),
     layers: u32,
-    format: wgpu::TextureFormat,
-) -> wgpu::Texture {
-    make_texture_mips(device, label, size, layers, 1, format)
-}
-
-fn make_texture_mips(
-    device: &wgpu::Device,
-    label: &str,
-    size: (u32, u32),
-    layers: u32,
     mips: u32,
     format: wgpu::TextureFormat,
 ) -> wgpu::Texture {
@@ -324,65 +550,36 @@ impl Ao {
     pub fn new(device: &wgpu::Device, options: AoOptions) -> Result<Self> {
         options.validate()?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let layered = options.mode.split() > 1;
-        let split_in_prepare = layered && options.fused;
+        let (prepare_target, steps) = plan_steps(&options);
         let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
             [false, true].map(|reconstruct| {
                 compile(
                     device,
                     Pass::Prepare {
                         depth,
-                        layers: split_in_prepare,
+                        layers: prepare_target == Res::PreparedLayers,
                         reconstruct,
                     },
                     &options,
                 )
             })
         });
-        let estimator = options.estimator;
-        let pyramid_passes = if estimator.uses_pyramid() {
-            let source = if split_in_prepare {
-                PyramidSource::Layers
-            } else {
-                PyramidSource::Full
-            };
-            vec![
-                Pass::Pyramid { source },
-                Pass::Pyramid {
-                    source: PyramidSource::Mip,
-                },
-            ]
-        } else {
-            vec![]
+        let mut later: Vec<Compiled> = Vec::new();
+        for st in &steps {
+            if !later.iter().any(|c| c.pass == st.pass) {
+                later.push(compile(device, st.pass, &options));
+            }
+        }
+        let uniform_buffer = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: std::mem::size_of::<FrameUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         };
-        let ao_passes = match (layered, options.fused) {
-            (false, _) => vec![Pass::AoFull { estimator }],
-            (true, true) => vec![Pass::AoLayered {
-                merge: true,
-                estimator,
-            }],
-            (true, false) => vec![
-                Pass::Deinterleave,
-                Pass::AoLayered {
-                    merge: false,
-                    estimator,
-                },
-                Pass::Interleave,
-            ],
-        };
-        // The pyramid reads the full-resolution buffer, so in unfused modes it runs after
-        // prepare and before the split; in every mode before the AO pass.
-        let later = pyramid_passes
-            .into_iter()
-            .chain(ao_passes)
-            .map(|p| compile(device, p, &options))
-            .collect();
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("obscura frame uniforms"),
-            size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let uniforms = uniform_buffer("obscura frame uniforms");
+        let work_uniforms = uniform_buffer("obscura working-resolution frame uniforms");
         let dummy_normals = device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("obscura no-normals placeholder"),
@@ -408,7 +605,10 @@ impl Ao {
             options,
             prepare,
             later,
+            prepare_target,
+            steps,
             uniforms,
+            work_uniforms,
             dummy_normals,
             max_dim: device.limits().max_texture_dimension_2d,
             sized: None,
@@ -502,141 +702,135 @@ impl Ao {
             return;
         }
         let n = self.options.mode.split();
-        let full = (size[0], size[1]);
-        let lsize = layer_size(size[0], size[1], n);
-        let layered = n > 1;
-        let needs_full_prepared = !layered || !self.options.fused;
-        let prepared = needs_full_prepared.then(|| {
-            make_texture(device, "obscura prepared", full, 1, PREPARED_FORMAT)
-                .create_view(&Default::default())
-        });
-        let prepared_layers = layered.then(|| {
-            array_view(&make_texture(
-                device,
-                "obscura prepared layers",
-                lsize,
-                n * n,
-                PREPARED_FORMAT,
-            ))
-        });
-        let ao_layers = (layered && !self.options.fused).then(|| {
-            array_view(&make_texture(
-                device,
-                "obscura ao layers",
-                lsize,
-                n * n,
-                AO_FORMAT,
-            ))
-        });
-        let output = make_texture(device, "obscura ao", full, 1, AO_FORMAT);
-        let output_view = output.create_view(&Default::default());
-        let pyramid = self.options.estimator.uses_pyramid().then(|| {
-            let base = (1.max(size[0] >> 1), 1.max(size[1] >> 1));
-            let mips = base.0.max(base.1).ilog2() + 1;
-            make_texture_mips(
-                device,
-                "obscura depth pyramid",
-                base,
-                1,
-                mips,
-                PYRAMID_FORMAT,
-            )
-        });
-        let pyramid_all = pyramid.as_ref().map(|t| t.create_view(&Default::default()));
-        let pyramid_mip = |t: &wgpu::Texture, level: u32| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                base_mip_level: level,
-                mip_level_count: Some(1),
-                ..Default::default()
-            })
-        };
-        let (fx, fy) = dispatch_size(size);
-        let (lx, ly) = dispatch_size([lsize.0, lsize.1]);
-        let full_dispatch = [fx, fy, 1];
-        let layer_dispatch = [lx, ly, n * n];
-        // Binding 3 of the AO pass, for estimators that read the pyramid.
-        let pyramid_binding = |e: crate::Estimator| {
-            pyramid_all
-                .as_ref()
-                .filter(|_| e.uses_pyramid())
-                .map(|v| (3, v))
-        };
-        let mut later = Vec::new();
-        for (i, c) in self.later.iter().enumerate() {
-            let mut push = |views: Vec<(u32, &wgpu::TextureView)>, dispatch| {
-                later.push((i, bind_group(device, c, &self.uniforms, &views), dispatch));
-            };
-            match c.pass {
-                Pass::AoFull { estimator } => {
-                    if let Some(prepared) = &prepared {
-                        let mut views = vec![(1, prepared), (2, &output_view)];
-                        views.extend(pyramid_binding(estimator));
-                        push(views, full_dispatch);
-                    }
+        let work_factor = self.options.resolution.factor();
+        let at = |f: u32| (size[0].div_ceil(f), size[1].div_ceil(f));
+        let work = at(work_factor);
+        let lsize = layer_size(work.0, work.1, n);
+        let mut used: Vec<Res> = vec![self.prepare_target];
+        for st in &self.steps {
+            for &(_, r) in &st.views {
+                let r = match r {
+                    Res::PyramidMip(_) => Res::Pyramid,
+                    r => r,
+                };
+                if !used.contains(&r) {
+                    used.push(r);
                 }
-                Pass::AoLayered { merge, estimator } => {
-                    let out = if merge {
-                        Some(&output_view)
-                    } else {
-                        ao_layers.as_ref()
-                    };
-                    if let (Some(layers), Some(out)) = (&prepared_layers, out) {
-                        let mut views = vec![(1, layers), (2, out)];
-                        views.extend(pyramid_binding(estimator));
-                        push(views, layer_dispatch);
-                    }
-                }
-                Pass::Deinterleave => {
-                    if let (Some(p), Some(l)) = (&prepared, &prepared_layers) {
-                        push(vec![(1, p), (3, l)], layer_dispatch);
-                    }
-                }
-                Pass::Interleave => {
-                    if let Some(l) = &ao_layers {
-                        push(vec![(1, l), (2, &output_view)], full_dispatch);
-                    }
-                }
-                Pass::Pyramid { source } => {
-                    let Some(t) = &pyramid else { continue };
-                    let dispatch = |level: u32| {
-                        let (x, y) =
-                            dispatch_size([1.max(t.width() >> level), 1.max(t.height() >> level)]);
-                        [x, y, 1]
-                    };
-                    match source {
-                        PyramidSource::Full | PyramidSource::Layers => {
-                            let src = if source == PyramidSource::Full {
-                                prepared.as_ref()
-                            } else {
-                                prepared_layers.as_ref()
-                            };
-                            if let Some(src) = src {
-                                push(vec![(1, src), (2, &pyramid_mip(t, 0))], dispatch(0));
-                            }
-                        }
-                        PyramidSource::Mip => {
-                            for level in 1..t.mip_level_count() {
-                                let (from, to) = (pyramid_mip(t, level - 1), pyramid_mip(t, level));
-                                push(vec![(1, &from), (2, &to)], dispatch(level));
-                            }
-                        }
-                    }
-                }
-                Pass::Prepare { .. } => {}
             }
         }
+        if !used.contains(&Res::Output) {
+            used.push(Res::Output);
+        }
+        let textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)> = used
+            .into_iter()
+            .map(|r| {
+                let (label, dims, layers, format) = match r {
+                    Res::Prepared => ("obscura prepared", at(1), 1, PREPARED_FORMAT),
+                    Res::PreparedLayers => {
+                        ("obscura prepared layers", lsize, n * n, PREPARED_FORMAT)
+                    }
+                    Res::Level(k) => ("obscura prepared level", at(1 << k), 1, PREPARED_FORMAT),
+                    Res::Pyramid | Res::PyramidMip(_) => (
+                        "obscura depth pyramid",
+                        (1.max(size[0] >> 1), 1.max(size[1] >> 1)),
+                        1,
+                        PYRAMID_FORMAT,
+                    ),
+                    Res::AoWork => ("obscura ao work", work, 1, AO_FORMAT),
+                    Res::AoTmp => ("obscura ao blur", work, 1, AO_FORMAT),
+                    Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
+                    Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
+                    Res::Output => ("obscura ao", at(1), 1, AO_FORMAT),
+                };
+                let mips = if r == Res::Pyramid {
+                    dims.0.max(dims.1).ilog2() + 1
+                } else {
+                    1
+                };
+                let t = make_texture(device, label, dims, layers, mips, format);
+                let v = if layers > 1 {
+                    array_view(&t)
+                } else {
+                    t.create_view(&Default::default())
+                };
+                (r, t, v)
+            })
+            .collect();
+        let find = |r: Res| textures.iter().find(|t| t.0 == r);
+        let mip_view = |m: u32| {
+            find(Res::Pyramid).map(|t| {
+                t.1.create_view(&wgpu::TextureViewDescriptor {
+                    base_mip_level: m,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
+            })
+        };
+        let pyramid_mips = find(Res::Pyramid).map_or(0, |t| t.1.mip_level_count());
+        let pyramid_base = find(Res::Pyramid).map_or((1, 1), |t| (t.1.width(), t.1.height()));
+        let workgroups = |w: u32, h: u32, z: u32| {
+            let (x, y) = dispatch_size([w, h]);
+            [x, y, z]
+        };
+        let grid = |g: Grid| match g {
+            Grid::Level(k) => {
+                let d = at(1 << k);
+                workgroups(d.0, d.1, 1)
+            }
+            Grid::Layers => workgroups(lsize.0, lsize.1, n * n),
+            Grid::PyramidBase | Grid::PyramidMips => workgroups(pyramid_base.0, pyramid_base.1, 1),
+        };
+        let mut later = Vec::new();
+        for st in &self.steps {
+            let i = self
+                .later
+                .iter()
+                .position(|c| c.pass == st.pass)
+                .expect("every step's pass is compiled in Ao::new");
+            let c = &self.later[i];
+            let buffer = match st.frame {
+                FrameAt::Full => &self.uniforms,
+                FrameAt::Work => &self.work_uniforms,
+            };
+            if st.grid == Grid::PyramidMips {
+                for m in 1..pyramid_mips {
+                    if let (Some(from), Some(to)) = (mip_view(m - 1), mip_view(m)) {
+                        let bg = bind_group(device, c, buffer, &[(1, &from), (2, &to)]);
+                        let d = (1.max(pyramid_base.0 >> m), 1.max(pyramid_base.1 >> m));
+                        later.push((i, bg, workgroups(d.0, d.1, 1)));
+                    }
+                }
+                continue;
+            }
+            let mips: Vec<(u32, wgpu::TextureView)> = st
+                .views
+                .iter()
+                .filter_map(|&(b, r)| match r {
+                    Res::PyramidMip(m) => mip_view(m).map(|v| (b, v)),
+                    _ => None,
+                })
+                .collect();
+            let views: Vec<(u32, &wgpu::TextureView)> = st
+                .views
+                .iter()
+                .filter_map(|&(b, r)| match r {
+                    Res::PyramidMip(_) => None,
+                    r => find(r).map(|t| (b, &t.2)),
+                })
+                .chain(mips.iter().map(|(b, v)| (*b, v)))
+                .collect();
+            let bg = bind_group(device, c, buffer, &views);
+            later.push((i, bg, grid(st.grid)));
+        }
+        let prepare_dispatch = if self.prepare_target == Res::PreparedLayers {
+            grid(Grid::Layers)
+        } else {
+            grid(Grid::Level(0))
+        };
         self.sized = Some(SizedResources {
             size,
-            prepare_dispatch: if needs_full_prepared {
-                full_dispatch
-            } else {
-                layer_dispatch
-            },
-            prepared,
-            prepared_layers,
-            pyramid,
-            output,
-            output_view,
+            textures,
+            prepare_dispatch,
             later,
         });
     }
@@ -652,6 +846,8 @@ impl Ao {
     ) -> Result<Vec<(&Compiled, wgpu::BindGroup, [u32; 3])>> {
         let frame = self.validate(input, params)?;
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
+        let work = frame.at_factor(self.options.resolution.factor());
+        queue.write_buffer(&self.work_uniforms, 0, bytemuck::bytes_of(&work));
         let binding = depth_binding(input.depth.texture().format())?;
         self.ensure_size(device, frame.size);
         let Some(sized) = self.sized.as_ref() else {
@@ -662,10 +858,8 @@ impl Ao {
             DepthBinding::Depth => 0,
             DepthBinding::Float => 1,
         }][input.normals.is_none() as usize];
-        let target = match (&sized.prepared, &sized.prepared_layers) {
-            (Some(full), _) => full,
-            (None, Some(layers)) => layers,
-            (None, None) => return Err(Error::Gpu("no prepare target".into())),
+        let Some(target) = sized.view(self.prepare_target) else {
+            return Err(Error::Gpu("no prepare target".into()));
         };
         let prepare_bind = bind_group(
             device,
@@ -796,28 +990,39 @@ impl Ao {
 
     /// The AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a frame was recorded.
     pub fn output(&self) -> Option<&wgpu::Texture> {
-        self.sized.as_ref().map(|s| &s.output)
+        self.sized.as_ref().and_then(|s| s.texture(Res::Output))
     }
 
     /// A view of [`Ao::output`].
     pub fn output_view(&self) -> Option<&wgpu::TextureView> {
-        self.sized.as_ref().map(|s| &s.output_view)
+        self.sized.as_ref().and_then(|s| s.view(Res::Output))
     }
 
     /// The full-resolution prepared `vec4(linear depth, view normal)` texture
-    /// (`Rgba32Float`) when the mode has one (not fused deinterleaved), for debugging/tests.
+    /// (`Rgba32Float`) when the plan has one (not fused deinterleaved), for debugging/tests.
     pub fn prepared_view(&self) -> Option<&wgpu::TextureView> {
-        self.sized.as_ref().and_then(|s| s.prepared.as_ref())
+        self.sized.as_ref().and_then(|s| s.view(Res::Prepared))
     }
 
     /// The depth pyramid (`Rgba32Float`, `vec4(select, min, max, 0)`, mip m = level m + 1)
-    /// when the estimator uses one.
+    /// when the estimator or the upsampler uses one.
     pub fn pyramid(&self) -> Option<&wgpu::Texture> {
-        self.sized.as_ref().and_then(|s| s.pyramid.as_ref())
+        self.sized.as_ref().and_then(|s| s.texture(Res::Pyramid))
+    }
+
+    /// The prepared buffer downsampled `k ≥ 1` times by the depth rule (below full
+    /// resolution), `ceil(size / 2^k)`, `Rgba32Float`.
+    pub fn prepared_level(&self, k: u32) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::Level(k)))
+    }
+
+    /// The AO at working resolution before upsampling, when the plan has one.
+    pub fn working_ao(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::AoWork))
     }
 
     /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.
     pub fn prepared_layers_view(&self) -> Option<&wgpu::TextureView> {
-        self.sized.as_ref().and_then(|s| s.prepared_layers.as_ref())
+        self.sized.as_ref().and_then(|s| s.view(Res::PreparedLayers))
     }
 }

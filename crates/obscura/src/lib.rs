@@ -31,4 +31,6 @@ pub use ao::{Ao, AoInput, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
-pub use settings::{AoMode, AoOptions, AoParams, Estimator, Preset};
+pub use settings::{
+    AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Preset, Resolution, Upsampler,
+};

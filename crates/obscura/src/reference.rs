@@ -87,7 +87,8 @@ pub struct Pixels<'a> {
     pub steps: u32,
     pub prepared: &'a [Vec4],
     pub lattice: u32,
-    /// The depth pyramid ([`pyramid`]), for estimators that read it; may be empty.
+    /// The depth pyramid of the full-resolution buffer ([`pyramid`]), for estimators that
+    /// read it; may be empty.
     pub pyramid: &'a [PyramidLevel],
 }
 
@@ -396,11 +397,12 @@ pub fn sao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         let Some(full_depth) = px.depth_at(q) else {
             continue;
         };
-        let level = ((ss_r.max(1.0) as u32).ilog2() as i32 - 3).clamp(0, px.pyramid.len() as i32);
+        let most = px.pyramid.len() as i32 - f.pyramid_offset as i32;
+        let level = ((ss_r.max(1.0) as u32).ilog2() as i32 - 3).min(most).max(0);
         let sd = if level == 0 {
             full_depth
         } else {
-            let l = &px.pyramid[level as usize - 1];
+            let l = &px.pyramid[(level as u32 + f.pyramid_offset) as usize - 1];
             let t = [
                 (q[0] >> level).min(l.size[0] as i32 - 1),
                 (q[1] >> level).min(l.size[1] as i32 - 1),
@@ -456,6 +458,197 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
                 crate::Estimator::Vo => sphere_pixel(&px, q, pattern, 0.0),
                 crate::Estimator::Vao => sphere_pixel(&px, q, pattern, 0.5),
                 crate::Estimator::Sao => sao_pixel(&px, q, pattern),
+            });
+        }
+    }
+    out
+}
+
+/// Depth downsampling 2×2 → 1 of a prepared buffer (`size` pixels) by `rule`; mirrors
+/// shaders/downsample.wgsl. Returns the `ceil(size / 2)` result.
+pub fn downsample(
+    rule: crate::DepthDownsample,
+    size: [u32; 2],
+    prepared: &[Vec4],
+) -> ([u32; 2], Vec<Vec4>) {
+    use crate::DepthDownsample as R;
+    let dst = size.map(|s| s.div_ceil(2));
+    let mut out = Vec::with_capacity((dst[0] * dst[1]) as usize);
+    for ty in 0..dst[1] {
+        for tx in 0..dst[0] {
+            let children: Vec<Vec4> = (0..4)
+                .filter_map(|i| {
+                    let (x, y) = (2 * tx + (i & 1), 2 * ty + (i >> 1));
+                    (x < size[0] && y < size[1])
+                        .then(|| prepared[(y * size[0] + x) as usize])
+                        .filter(|v| v.x > 0.0)
+                })
+                .collect();
+            if children.is_empty() {
+                out.push(Vec4::new(0.0, 0.0, 0.0, 1.0));
+                continue;
+            }
+            let rule = match rule {
+                R::Checkerboard if (tx + ty) % 2 == 1 => R::Max,
+                R::Checkerboard => R::Min,
+                r => r,
+            };
+            let pick = match rule {
+                R::Max => children.iter().fold(children[0], |a, &b| if b.x > a.x { b } else { a }),
+                R::Min => children.iter().fold(children[0], |a, &b| if b.x < a.x { b } else { a }),
+                _ => most_representative(&children),
+            };
+            out.push(pick);
+        }
+    }
+    (dst, out)
+}
+
+/// Seed 004's rule: drop the sample farthest from the centroid of those left until two
+/// remain, then keep the one closer to the last centroid (ties: the earlier).
+fn most_representative(c: &[Vec4]) -> Vec4 {
+    let mut anchor = c.iter().map(|v| v.x).sum::<f32>() / c.len() as f32;
+    let mut alive: Vec<Vec4> = c.to_vec();
+    while alive.len() > 2 {
+        let centroid = alive.iter().map(|v| v.x).sum::<f32>() / alive.len() as f32;
+        anchor = centroid;
+        let mut worst = 0;
+        for i in 1..alive.len() {
+            if (alive[i].x - centroid).abs() > (alive[worst].x - centroid).abs() {
+                worst = i;
+            }
+        }
+        alive.remove(worst);
+    }
+    if alive.len() == 2 && (alive[1].x - anchor).abs() < (alive[0].x - anchor).abs() {
+        alive[1]
+    } else {
+        alive[0]
+    }
+}
+
+/// Upsampling of low-resolution AO (`low_size`, with its prepared buffer) to the full
+/// resolution of `f` (whose `up_factor` relates them); mirrors shaders/upsample*.wgsl.
+/// `pyramid`: the full-resolution depth pyramid (classified upsampler).
+pub fn upsample(
+    upsampler: crate::Upsampler,
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    low_size: [u32; 2],
+    low_ao: &[f32],
+    low_prepared: &[Vec4],
+    pyramid: &[PyramidLevel],
+) -> Vec<f32> {
+    use crate::shader::{DEPTH_RANGE_TOLERANCE, PLANE_TOLERANCE};
+    use crate::Upsampler as U;
+    let fac = f.up_factor as f32;
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let mut out = Vec::with_capacity(prepared.len());
+    for y in 0..h {
+        for x in 0..w {
+            let c = prepared[(y * w + x) as usize];
+            if c.x <= 0.0 {
+                out.push(1.0);
+                continue;
+            }
+            let n = Vec3::new(c.y, c.z, c.w);
+            let pos = f.view_position(centre([x, y]), c.x);
+            let u = [(x as f32 + 0.5) / fac - 0.5, (y as f32 + 0.5) / fac - 0.5];
+            let base = [u[0].floor() as i32, u[1].floor() as i32];
+            let t = [u[0] - u[0].floor(), u[1] - u[1].floor()];
+            let wts = [
+                (1.0 - t[0]) * (1.0 - t[1]),
+                t[0] * (1.0 - t[1]),
+                (1.0 - t[0]) * t[1],
+                t[0] * t[1],
+            ];
+            let texel: [[i32; 2]; 4] = std::array::from_fn(|i| {
+                [
+                    (base[0] + (i as i32 & 1)).clamp(0, low_size[0] as i32 - 1),
+                    (base[1] + (i as i32 >> 1)).clamp(0, low_size[1] as i32 - 1),
+                ]
+            });
+            let at = |q: [i32; 2]| (q[1] * low_size[0] as i32 + q[0]) as usize;
+            let ao: [f32; 4] = texel.map(|q| low_ao[at(q)]);
+            let low: [Vec4; 4] = texel.map(|q| low_prepared[at(q)]);
+            let lpos: [Vec3; 4] = std::array::from_fn(|i| {
+                let q = texel[i];
+                f.view_position(
+                    [(q[0] as f32 + 0.5) * fac, (q[1] as f32 + 0.5) * fac],
+                    low[i].x,
+                )
+            });
+            let ln = |i: usize| Vec3::new(low[i].y, low[i].z, low[i].w);
+            let bilinear = (0..4).map(|i| wts[i] * ao[i]).sum::<f32>();
+            let nearest = || {
+                let mut best: Option<usize> = None;
+                for i in 0..4 {
+                    if low[i].x > 0.0
+                        && best.is_none_or(|b| (low[i].x - c.x).abs() < (low[b].x - c.x).abs())
+                    {
+                        best = Some(i);
+                    }
+                }
+                best.map_or(bilinear, |i| ao[i])
+            };
+            let plane = |i: usize| (lpos[i] - pos).dot(n).abs() / c.x;
+            out.push(match upsampler {
+                U::Bilinear => bilinear,
+                U::NearestDepth => nearest(),
+                U::Classified => {
+                    // A footprint of one pixel (factor 1, tests only) has no depth range.
+                    let level = (f.up_factor > 1)
+                        .then(|| &pyramid[f.up_factor.trailing_zeros() as usize - 1]);
+                    let mut surface = true;
+                    let mut mean = Vec3::ZERO;
+                    for i in 0..4 {
+                        if low[i].x <= 0.0 {
+                            surface = false;
+                            continue;
+                        }
+                        mean += ln(i);
+                        if plane(i) > PLANE_TOLERANCE {
+                            surface = false;
+                        }
+                        if let Some(l) = level {
+                            let q = [
+                                texel[i][0].min(l.size[0] as i32 - 1),
+                                texel[i][1].min(l.size[1] as i32 - 1),
+                            ];
+                            let r = l.at(q);
+                            if r[2] - r[1] > DEPTH_RANGE_TOLERANCE * r[1] {
+                                surface = false;
+                            }
+                        }
+                    }
+                    let m = mean.normalize();
+                    if (0..4).any(|i| ln(i).dot(m) < 0.906_307_8) {
+                        surface = false;
+                    }
+                    if surface {
+                        bilinear
+                    } else {
+                        nearest()
+                    }
+                }
+                U::Bilateral => {
+                    let (mut sum, mut total) = (0.0, 0.0);
+                    for i in 0..4 {
+                        if low[i].x <= 0.0 {
+                            continue;
+                        }
+                        let z = plane(i) / PLANE_TOLERANCE;
+                        let cs = ln(i).dot(n).max(0.0);
+                        let wgt = wts[i] * (-z * z).exp() * cs.powi(8);
+                        sum += wgt * ao[i];
+                        total += wgt;
+                    }
+                    if total > 1e-4 {
+                        sum / total
+                    } else {
+                        nearest()
+                    }
+                }
             });
         }
     }

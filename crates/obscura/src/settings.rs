@@ -122,6 +122,158 @@ impl AoMode {
     }
 }
 
+/// The resolution the AO is computed at (seeds 002 and 004: low-resolution shading with
+/// depth-aware upsampling). Sizes round up (`ceil(size / factor)`), and a low-resolution
+/// pixel's centre sits at the centre of the full-resolution block it stands for, so odd
+/// sizes neither shift nor crop the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Resolution {
+    #[default]
+    Full,
+    Half,
+    Quarter,
+}
+
+impl Resolution {
+    /// Every resolution.
+    pub const ALL: [Resolution; 3] = [Resolution::Full, Resolution::Half, Resolution::Quarter];
+
+    /// Full-resolution pixels per AO pixel along each axis: 1, 2 or 4.
+    pub fn factor(self) -> u32 {
+        match self {
+            Resolution::Full => 1,
+            Resolution::Half => 2,
+            Resolution::Quarter => 4,
+        }
+    }
+
+    /// Short name used by the CLI and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Resolution::Full => "full",
+            Resolution::Half => "half",
+            Resolution::Quarter => "quarter",
+        }
+    }
+}
+
+/// How a 2×2 block of depths becomes one low-resolution depth (seed 004). Every rule picks
+/// one of the four samples (depths are never averaged: an average is a surface that is not
+/// there), and the low-resolution normal is that sample's normal. Sky samples are skipped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DepthDownsample {
+    /// The farthest depth (NVIDIA's rule in seed 004): thin foreground features vanish.
+    Max,
+    /// The nearest depth: foreground wins, background detail vanishes.
+    Min,
+    /// Min and max alternating in a checkerboard over low-resolution pixels (Call of Duty:
+    /// Black Ops 3, in seed 004): both sides of an edge survive somewhere.
+    Checkerboard,
+    /// Reject the sample farthest from the centroid of the remaining ones until two remain,
+    /// then keep the one closer to the last centroid (seed 004 leaves the last pair's choice
+    /// open): the depth most like its neighbours.
+    #[default]
+    Representative,
+}
+
+impl DepthDownsample {
+    /// Every rule.
+    pub const ALL: [DepthDownsample; 4] = [
+        DepthDownsample::Max,
+        DepthDownsample::Min,
+        DepthDownsample::Checkerboard,
+        DepthDownsample::Representative,
+    ];
+
+    /// Short name used by the CLI and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            DepthDownsample::Max => "max",
+            DepthDownsample::Min => "min",
+            DepthDownsample::Checkerboard => "checkerboard",
+            DepthDownsample::Representative => "representative",
+        }
+    }
+}
+
+/// How low-resolution AO returns to full resolution. Each reads the 2×2 low-resolution
+/// pixels around the full-resolution pixel (the bilinear footprint).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Upsampler {
+    /// Bilinear weights only: cheapest, bleeds across depth edges.
+    Bilinear,
+    /// The sample whose depth is closest to the full-resolution depth (seed 004).
+    NearestDepth,
+    /// Bilinear where the 2×2 neighbourhood is one surface, nearest-depth where it holds a
+    /// discontinuity (seed 004). A surface: every low-resolution normal within 25° of their
+    /// mean, every sample within 2% of the depth from the full-resolution pixel's tangent
+    /// plane, and no sample whose own footprint (depth pyramid min/max) spans more than 5% of
+    /// its depth. See shaders/upsample_classified.wgsl.
+    #[default]
+    Classified,
+    /// Joint bilateral (Yang et al., "Geometry-Aware Framebuffer Level of Detail", 2008;
+    /// seed 002): bilinear weights × depth weight (distance from the tangent plane relative
+    /// to depth) × normal agreement.
+    Bilateral,
+}
+
+impl Upsampler {
+    /// Every upsampler.
+    pub const ALL: [Upsampler; 4] = [
+        Upsampler::Bilinear,
+        Upsampler::NearestDepth,
+        Upsampler::Classified,
+        Upsampler::Bilateral,
+    ];
+
+    /// Short name used by the CLI and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Upsampler::Bilinear => "bilinear",
+            Upsampler::NearestDepth => "nearest-depth",
+            Upsampler::Classified => "classified",
+            Upsampler::Bilateral => "bilateral",
+        }
+    }
+}
+
+/// Optional filtering of the AO at its working resolution, before upsampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Denoise {
+    #[default]
+    None,
+    /// Depth-aware separable blur: 9 taps horizontally then vertically (Gaussian σ = 2
+    /// pixels), each weighted by its distance from the centre's tangent plane (edge-stopping
+    /// on view-space depth). Two extra passes at the working resolution.
+    Blur,
+    /// Seed 003's 2×2 box downsample of the AO (4 taps), then upsampling from that half
+    /// size: averages the 2×2 pattern tile. Not depth-aware.
+    Box,
+    /// Seed 003's 6×6 tent downsample (9 taps on a 2-pixel grid, weights 1-2-1 × 1-2-1,
+    /// each tap the mean of 2×2 texels), then upsampling. Not depth-aware.
+    Tent,
+}
+
+impl Denoise {
+    /// Every denoise choice.
+    pub const ALL: [Denoise; 4] = [Denoise::None, Denoise::Blur, Denoise::Box, Denoise::Tent];
+
+    /// Short name used by the CLI and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Denoise::None => "none",
+            Denoise::Blur => "blur",
+            Denoise::Box => "box",
+            Denoise::Tent => "tent",
+        }
+    }
+
+    /// Whether it halves the AO once more before upsampling.
+    pub fn downsamples(self) -> bool {
+        matches!(self, Denoise::Box | Denoise::Tent)
+    }
+}
+
 /// Creation-time choices: compiled into the shaders as WGSL `override` constants, because
 /// constant loop bounds are markedly faster than uniforms on CPU drivers (see docs/design.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,6 +301,14 @@ pub struct AoOptions {
     /// every pixel samples the same fixed pattern (rotation half a sector, offset ½) — the
     /// screen-space reference evaluates the estimator's integral this way, with no noise.
     pub jitter: bool,
+    /// AO resolution. Default `Full`.
+    pub resolution: Resolution,
+    /// Depth downsampling rule below full resolution. Default `Representative`.
+    pub downsample: DepthDownsample,
+    /// Upsampler below full resolution (and after box/tent denoising). Default `Classified`.
+    pub upsample: Upsampler,
+    /// Filtering at the working resolution. Default `None`.
+    pub denoise: Denoise,
 }
 
 impl Default for AoOptions {
@@ -161,6 +321,10 @@ impl Default for AoOptions {
             mode: AoMode::default(),
             fused: true,
             jitter: true,
+            resolution: Resolution::Full,
+            downsample: DepthDownsample::Representative,
+            upsample: Upsampler::Classified,
+            denoise: Denoise::None,
         }
     }
 }
@@ -257,9 +421,19 @@ impl AoOptions {
             directions: 64,
             steps: 64,
             mode: AoMode::Randomized,
-            fused: true,
             jitter: false,
+            ..Self::default()
         }
+    }
+
+    /// Full-resolution pixels per pixel of the AO the upsampler reads (1: no upsampling).
+    pub fn upsample_factor(&self) -> u32 {
+        self.resolution.factor() * if self.denoise.downsamples() { 2 } else { 1 }
+    }
+
+    /// Whether the AO is written straight to the output by the AO pass (no post-processing).
+    pub fn direct(&self) -> bool {
+        self.resolution == Resolution::Full && self.denoise == Denoise::None
     }
 
     /// Samples per pixel of the AO pass.

@@ -4,7 +4,7 @@
 
 use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
 use crate::uniforms::FrameUniforms;
-use crate::Estimator;
+use crate::{DepthDownsample, Estimator, Upsampler};
 
 /// Compute workgroup edge: every pass runs `WORKGROUP_SIZE × WORKGROUP_SIZE` invocations.
 pub const WORKGROUP_SIZE: u32 = 8;
@@ -15,6 +15,15 @@ pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Floa
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
+/// the blur): a sample farther than this fraction of the depth from the centre's tangent
+/// plane is on another surface. 2%: well above the depth change across a few pixels of a
+/// surface at 80° to the view (~1%), well below the gap between stacked objects.
+pub const PLANE_TOLERANCE: f32 = 0.02;
+/// The classified upsampler treats a low-resolution texel whose footprint's depths (depth
+/// pyramid min/max) span more than this fraction of its depth as an edge.
+pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
 
 /// Where the first pyramid level reads linear depth from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +67,14 @@ pub enum Pass {
     Interleave,
     /// One level of the min/max depth pyramid (also SAO's depth mips).
     Pyramid { source: PyramidSource },
+    /// Prepared buffer 2×2 → 1 by a depth rule.
+    Downsample { rule: DepthDownsample },
+    /// Low-resolution AO → full resolution.
+    Upsample { upsampler: Upsampler },
+    /// One axis of the depth-aware blur.
+    Blur { vertical: bool },
+    /// AO 2×2 → 1 by seed 003's box or tent filter.
+    AoDownsample { tent: bool },
 }
 
 impl Pass {
@@ -88,6 +105,11 @@ impl Pass {
             PyramidSource::Mip,
         ] {
             v.push(Pass::Pyramid { source });
+        }
+        v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule }));
+        v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
+        for b in [false, true] {
+            v.extend([Pass::Blur { vertical: b }, Pass::AoDownsample { tent: b }]);
         }
         v
     }
@@ -131,6 +153,22 @@ impl Pass {
                 PyramidSource::Layers => "pyramid_from_layers",
                 PyramidSource::Mip => "pyramid",
             },
+            Pass::Downsample { rule } => match rule {
+                DepthDownsample::Max => "downsample_max",
+                DepthDownsample::Min => "downsample_min",
+                DepthDownsample::Checkerboard => "downsample_checkerboard",
+                DepthDownsample::Representative => "downsample_representative",
+            },
+            Pass::Upsample { upsampler } => match upsampler {
+                Upsampler::Bilinear => "upsample_bilinear",
+                Upsampler::NearestDepth => "upsample_nearest_depth",
+                Upsampler::Classified => "upsample_classified",
+                Upsampler::Bilateral => "upsample_bilateral",
+            },
+            Pass::Blur { vertical: false } => "blur_x",
+            Pass::Blur { vertical: true } => "blur_y",
+            Pass::AoDownsample { tent: false } => "ao_downsample_box",
+            Pass::AoDownsample { tent: true } => "ao_downsample_tent",
         }
     }
 
@@ -195,6 +233,18 @@ impl Pass {
                 },
                 include_str!("../shaders/pyramid.wgsl"),
             ],
+            Pass::Downsample { .. } => vec![include_str!("../shaders/downsample.wgsl")],
+            Pass::Upsample { upsampler } => vec![
+                include_str!("../shaders/upsample.wgsl"),
+                match upsampler {
+                    Upsampler::Bilinear => include_str!("../shaders/upsample_bilinear.wgsl"),
+                    Upsampler::NearestDepth => include_str!("../shaders/upsample_nearest.wgsl"),
+                    Upsampler::Classified => include_str!("../shaders/upsample_classified.wgsl"),
+                    Upsampler::Bilateral => include_str!("../shaders/upsample_bilateral.wgsl"),
+                },
+            ],
+            Pass::Blur { .. } => vec![include_str!("../shaders/blur.wgsl")],
+            Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
         }
     }
 
@@ -231,7 +281,18 @@ impl Pass {
             | Pass::Pyramid {
                 source: PyramidSource::Layers,
             } => vec![split],
-            Pass::Pyramid { .. } => vec![],
+            Pass::Pyramid { .. } | Pass::Upsample { .. } => vec![],
+            Pass::Downsample { rule } => vec![(
+                "RULE",
+                match rule {
+                    DepthDownsample::Max => 0.0,
+                    DepthDownsample::Min => 1.0,
+                    DepthDownsample::Checkerboard => 2.0,
+                    DepthDownsample::Representative => 3.0,
+                },
+            )],
+            Pass::Blur { vertical } => vec![("VERTICAL", vertical as u32 as f64)],
+            Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),
             Pass::AoLayered { estimator: e, .. } => {
                 [&estimator[..], &sphere(e)[..], &[split]].concat()
@@ -260,6 +321,8 @@ pub fn prelude() -> String {
          const WG_SIZE: u32 = {WORKGROUP_SIZE}u;\n\
          const PATTERN_DIM: u32 = {PATTERN_DIM}u;\n\
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\
+         const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
+         const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
          {}",
         FrameUniforms::wgsl()
     )

@@ -38,6 +38,13 @@ crate::gpu_struct! {
         /// (1 − sin_bias)); GTAO strength / directions; VO and VAO strength; SAO
         /// 2 · strength / samples.
         pub ao_scale: f32,
+        /// Full-resolution pixels per pixel of the AO the upsampler reads (1, 2, 4 or 8).
+        pub up_factor: u32,
+        /// log2 of the full-resolution pixels per pixel of this frame's grid: depth pyramid
+        /// level L of the full-resolution buffer is level L − pyramid_offset here.
+        pub pyramid_offset: u32,
+        /// The viewport size at full resolution, pixels.
+        pub full_size: [u32; 2],
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
@@ -95,12 +102,31 @@ impl FrameUniforms {
                     2.0 * params.strength / (options.directions * options.steps) as f32
                 }
             },
+            up_factor: options.upsample_factor(),
+            pyramid_offset: 0,
+            full_size: [viewport.width, viewport.height],
             patterns: if options.jitter {
                 pattern_table(options.directions)
             } else {
                 fixed_table(options.directions)
             },
         })
+    }
+
+    /// The same frame on a grid of `factor` × `factor` full-resolution pixels per pixel
+    /// (`factor` a power of two): `ceil(size / factor)` pixels whose centres sit at the
+    /// centres of their full-resolution blocks (`inv_size = factor / full size`), with the
+    /// on-screen radius in this grid's pixels.
+    pub fn at_factor(&self, factor: u32) -> Self {
+        let f = factor as f32;
+        Self {
+            size: self.full_size.map(|s| s.div_ceil(factor)),
+            inv_size: self.full_size.map(|s| f / s as f32),
+            radius_to_px: self.radius_to_px / f,
+            max_radius_px: self.max_radius_px / f,
+            pyramid_offset: factor.ilog2(),
+            ..*self
+        }
     }
 
     /// The [`crate::Linearize`] these uniforms encode (for the CPU reference).

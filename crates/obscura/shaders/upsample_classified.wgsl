@@ -1,0 +1,49 @@
+// Classified upsampling (seed 004): the 2x2 footprint is a *surface* when
+//  - every low-resolution normal is within 25 degrees of their mean (the seed's normal test),
+//  - every texel lies within PLANE_TOLERANCE x depth of this pixel's tangent plane (catches
+//    parallel surfaces at different depths, whose normals agree), and
+//  - no texel's own footprint spans more than DEPTH_RANGE_TOLERANCE of its depth in the
+//    min/max depth pyramid (its one depth stands for an edge inside it);
+// bilinear on surfaces, nearest-depth on discontinuities.
+
+@group(0) @binding(5) var pyramid: texture_2d<f32>;
+
+const COS_25_DEG: f32 = 0.9063078;
+
+fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
+    let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
+    var mean = vec3<f32>(0.0);
+    var surface = true;
+    // Pyramid level log2(up_factor) holds each low texel's footprint (mip = level - 1).
+    let level = i32(firstTrailingBit(frame.up_factor)) - 1;
+    let psize = vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(u32(level));
+    for (var i = 0u; i < 4u; i++) {
+        let low = fp.low[i];
+        if low.x <= 0.0 {
+            surface = false;
+            continue;
+        }
+        mean += low.yzw;
+        if plane_distance(fp.pos[i], pos, centre.yzw, centre.x) > PLANE_TOLERANCE {
+            surface = false;
+        }
+        let range = textureLoad(pyramid, min(fp.texel[i], max(psize, vec2<i32>(1)) - 1), level).yz;
+        if range.y - range.x > DEPTH_RANGE_TOLERANCE * range.x {
+            surface = false;
+        }
+    }
+    let m = normalize(mean);
+    for (var i = 0u; i < 4u; i++) {
+        if dot(fp.low[i].yzw, m) < COS_25_DEG {
+            surface = false;
+        }
+    }
+    if surface {
+        return dot(fp.w, fp.ao);
+    }
+    let i = nearest_depth(fp, centre.x);
+    if i < 0 {
+        return dot(fp.w, fp.ao);
+    }
+    return fp.ao[i];
+}
