@@ -203,7 +203,8 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
         Denoise::None => {}
         Denoise::Blur => {
             let last = if upsample { Res::AoWork } else { Res::Output };
-            for (vertical, from, to) in [(false, Res::AoWork, Res::AoTmp), (true, Res::AoTmp, last)] {
+            for (vertical, from, to) in [(false, Res::AoWork, Res::AoTmp), (true, Res::AoTmp, last)]
+            {
                 steps.push(step(
                     Pass::Blur { vertical },
                     vec![(1, work_prepared), (2, from), (3, to)],
@@ -227,7 +228,12 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
         } else {
             Res::AoWork
         };
-        let mut views = vec![(1, Res::Prepared), (2, from), (3, level(up_level)), (4, Res::Output)];
+        let mut views = vec![
+            (1, Res::Prepared),
+            (2, from),
+            (3, level(up_level)),
+            (4, Res::Output),
+        ];
         if classified {
             views.push((5, Res::Pyramid));
         }
@@ -1023,6 +1029,8 @@ impl Ao {
 
     /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.
     pub fn prepared_layers_view(&self) -> Option<&wgpu::TextureView> {
-        self.sized.as_ref().and_then(|s| s.view(Res::PreparedLayers))
+        self.sized
+            .as_ref()
+            .and_then(|s| s.view(Res::PreparedLayers))
     }
 }

@@ -494,8 +494,12 @@ pub fn downsample(
                 r => r,
             };
             let pick = match rule {
-                R::Max => children.iter().fold(children[0], |a, &b| if b.x > a.x { b } else { a }),
-                R::Min => children.iter().fold(children[0], |a, &b| if b.x < a.x { b } else { a }),
+                R::Max => children
+                    .iter()
+                    .fold(children[0], |a, &b| if b.x > a.x { b } else { a }),
+                R::Min => children
+                    .iter()
+                    .fold(children[0], |a, &b| if b.x < a.x { b } else { a }),
                 _ => most_representative(&children),
             };
             out.push(pick);
