@@ -2,19 +2,35 @@
 //! (A B C … A B C …) after warm-up, over on-screen radius × resolution. GPU timestamps per
 //! pass on hardware adapters; on CPU adapters (lavapipe, whose timestamps do not bracket
 //! dispatches) the wall clock around submit + wait of each pass. Medians and ratios to the
-//! randomized single pass.
+//! first variant (the randomized single pass, or full resolution with `--compare resolutions`).
 
 use crate::output::{check_png_path, write_text};
-use crate::render::{NormalSource, QualityArgs};
+use crate::render::{NormalSource, QualityArgs, ResolutionArgs};
 use anyhow::{bail, Context, Result};
-use clap::Args;
-use obscura::{Ao, AoMode, AoOptions, AoParams, GpuContext, Timing};
+use clap::{Args, ValueEnum};
+use obscura::{Ao, AoMode, AoOptions, AoParams, GpuContext, Resolution, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// What the variants of a benchmark differ in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Compare {
+    /// Pass layouts: randomized, 2×2 and 4×4 deinterleaved, fused and not (the first is
+    /// the baseline of the ratios).
+    Layouts,
+    /// AO resolution full, half, quarter in the default layout, with the --downsample,
+    /// --upsample and --denoise choices (full is the baseline).
+    Resolutions,
+}
+
 #[derive(Debug, Args)]
 pub struct BenchArgs {
+    /// What the variants differ in.
+    #[arg(long, value_enum, default_value_t = Compare::Layouts)]
+    pub compare: Compare,
+    #[command(flatten)]
+    pub resolution: ResolutionArgs,
     /// Resolutions as WxH, comma-separated.
     #[arg(long, default_value = "1280x720,1920x1080,3840x2160")]
     pub resolutions: String,
@@ -49,8 +65,17 @@ struct Record {
     ratio: f64,
 }
 
-fn variants(base: AoOptions) -> Vec<(String, AoOptions)> {
+fn variants(base: AoOptions, compare: Compare) -> Vec<(String, AoOptions)> {
     let mut v = Vec::new();
+    if compare == Compare::Resolutions {
+        for resolution in Resolution::ALL {
+            v.push((
+                resolution.name().to_string(),
+                AoOptions { resolution, ..base },
+            ));
+        }
+        return v;
+    }
     for mode in AoMode::ALL {
         for fused in [true, false] {
             if mode == AoMode::Randomized && !fused {
@@ -108,8 +133,10 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
-    let base = a.quality.samples.options(a.quality.estimator.into());
-    let variants = variants(base);
+    let base = a
+        .resolution
+        .apply(a.quality.samples.options(a.quality.estimator.into()));
+    let variants = variants(base, a.compare);
     for (_, o) in &variants {
         o.validate()?;
     }
@@ -202,7 +229,7 @@ fn check_svg_path(p: &Path) -> Result<()> {
 }
 
 /// Markdown: one row per resolution and radius; each variant's median and ratio
-/// (randomized time / variant time, > 1 = faster than randomized).
+/// (baseline time / variant time, > 1 = faster than the first variant).
 fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
     let mut s = String::from("| resolution | radius px |");
     for (name, _) in variants {
@@ -260,7 +287,7 @@ fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs, base: &AoOptions) -
             .collect();
         let _ = writeln!(
             s,
-            "    {{\"variant\": \"{}\", \"width\": {}, \"height\": {}, \"radius_px\": {}, \"median_ms\": {:.3}, \"ratio_to_randomized\": {:.4}, \"passes_ms\": {{{}}}}}{}",
+            "    {{\"variant\": \"{}\", \"width\": {}, \"height\": {}, \"radius_px\": {}, \"median_ms\": {:.3}, \"ratio_to_baseline\": {:.4}, \"passes_ms\": {{{}}}}}{}",
             r.variant,
             r.width,
             r.height,

@@ -3,11 +3,17 @@
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 
 use crate::output::{check_png_path, save_png, write_text};
-use crate::render::{parse_floats, EstimatorArg, ModeArg, NormalSource, SampleArgs};
+use crate::render::{
+    parse_denoise, parse_downsample, parse_floats, parse_resolution, parse_upsampler,
+    EstimatorArg, ModeArg, NormalSource, SampleArgs,
+};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext};
+use obscura::{
+    Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext, Resolution,
+    Upsampler,
+};
 use obscura_eval::{cache, metrics, views, Bvh, Falloff, TraceSettings};
 use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
@@ -73,6 +79,22 @@ pub struct EvalArgs {
         default_value = "randomized,deinterleaved2,deinterleaved4"
     )]
     pub modes: Vec<ModeArg>,
+    /// AO resolutions (comma-separated); below full, every downsample rule × upsampler ×
+    /// denoise choice listed runs.
+    #[arg(long, value_parser = parse_resolution, value_delimiter = ',', default_value = "full")]
+    pub resolutions: Vec<Resolution>,
+    /// Depth downsampling rules for the low resolutions (comma-separated).
+    #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "representative")]
+    pub downsamples: Vec<DepthDownsample>,
+    /// Upsamplers for the low resolutions (comma-separated).
+    #[arg(long, value_parser = parse_upsampler, value_delimiter = ',', default_value = "classified")]
+    pub upsamplers: Vec<Upsampler>,
+    /// Denoise choices (comma-separated; at full resolution too).
+    #[arg(long, value_parser = parse_denoise, value_delimiter = ',', default_value = "none")]
+    pub denoise: Vec<Denoise>,
+    /// Leave the per-view picture sections out of the report (tables and plot only).
+    #[arg(long)]
+    pub no_pictures: bool,
     /// Where the estimator's normals come from.
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
@@ -120,6 +142,9 @@ struct Row {
     band_rmse: f32,
     /// RMSE against the estimator's own screen-space reference: its sampling error.
     screen_rmse: Option<f32>,
+    /// Below full resolution (or with denoising): RMSE over the image and over the band
+    /// against the same estimator and mode at full resolution.
+    full_rmse: Option<(f32, f32)>,
     ms: Option<f64>,
 }
 
@@ -242,21 +267,54 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
-    let variants: Vec<(String, AoOptions)> = a
-        .estimators
-        .iter()
-        .flat_map(|e| a.modes.iter().map(move |m| (*e, *m)))
-        .map(|(e, m)| {
+    let mut variants: Vec<(String, AoOptions)> = Vec::new();
+    for &e in &a.estimators {
+        for &m in &a.modes {
             let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
-            (
-                format!("{} {}", estimator.name(), mode.name()),
-                AoOptions {
-                    mode,
-                    ..a.samples.options(estimator)
-                },
-            )
-        })
-        .collect();
+            let base = AoOptions {
+                mode,
+                ..a.samples.options(estimator)
+            };
+            let name = format!("{} {}", estimator.name(), mode.name());
+            for &resolution in &a.resolutions {
+                for &denoise in &a.denoise {
+                    if resolution == Resolution::Full {
+                        let label = match denoise {
+                            Denoise::None => name.clone(),
+                            d => format!("{name} full {}", d.name()),
+                        };
+                        let o = AoOptions { denoise, ..base };
+                        variants.push((label, o));
+                        continue;
+                    }
+                    for &downsample in &a.downsamples {
+                        for &upsample in &a.upsamplers {
+                            let o = AoOptions {
+                                resolution,
+                                downsample,
+                                upsample,
+                                denoise,
+                                ..base
+                            };
+                            let mut label = format!(
+                                "{name} {} {} {}",
+                                resolution.name(),
+                                downsample.name(),
+                                upsample.name()
+                            );
+                            if denoise != Denoise::None {
+                                label = format!("{label} {}", denoise.name());
+                            }
+                            variants.push((label, o));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if variants.is_empty() {
+        bail!("no variant to evaluate");
+    }
     let mut aos: Vec<Ao> = variants
         .iter()
         .map(|(_, o)| Ao::new(&ctx.device, *o))
@@ -391,12 +449,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         let screen_of = |e: Estimator| screen.iter().find(|s| s.0 == e).map(|s| &s.1);
         let white = vec![1.0f32; (w * h) as usize];
-        // (label, estimator, mode, image, time)
-        let mut results: Vec<(String, String, String, Vec<f32>, Option<f64>)> = vec![(
+        // (label, estimator, mode, image, time, options)
+        type Result5 = (String, String, String, Vec<f32>, Option<f64>, Option<AoOptions>);
+        let mut results: Vec<Result5> = vec![(
             "white (no AO)".into(),
             "none".into(),
             String::new(),
             white,
+            None,
             None,
         )];
         for (e, img) in &screen {
@@ -405,6 +465,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 e.name().into(),
                 "screen-reference".into(),
                 img.clone(),
+                None,
                 None,
             ));
         }
@@ -417,10 +478,23 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 o.mode.name().into(),
                 out,
                 Some(median(times[i].clone())),
+                Some(o),
             ));
         }
         let r = &reference.ao;
-        for (name, estimator, mode, img, ms) in &results {
+        // The full-resolution result of the same estimator and mode, if evaluated.
+        let full_of = |o: &AoOptions| {
+            results.iter().find_map(|r| {
+                r.5.filter(|f| {
+                    f.direct() && f.estimator == o.estimator && f.mode == o.mode
+                })
+                .map(|_| &r.3)
+            })
+        };
+        for (name, estimator, mode, img, ms, options) in &results {
+            let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
+                full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
+            });
             let screen_rmse = ms
                 .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
                 .and_then(screen_of)
@@ -435,6 +509,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 ssim: metrics::ssim(img, r, w as usize, h as usize, &mask),
                 band_rmse: metrics::rmse(img, r, &band),
                 screen_rmse,
+                full_rmse,
                 ms: *ms,
             });
         }
@@ -452,7 +527,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             );
         }
 
-        if let (Some(dir), Some(md)) = (&a.report, &md_path) {
+        if let (Some(dir), Some(md), false) = (&a.report, &md_path, a.no_pictures) {
             let rel = relative_dir(dir, md);
             let pic = |stem: &str| format!("{}-{}.png", job.name, stem.replace(' ', "-"));
             write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
@@ -471,7 +546,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 "---|".repeat(variants.len()),
                 pic("reference"),
             );
-            for (name, _, _, img, _) in results.iter().skip(1 + screen.len()) {
+            for (name, _, _, img, _, _) in results.iter().skip(1 + screen.len()) {
                 write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
                 write_error(
                     &dir.join(pic(&format!("{name}-error"))),
@@ -488,14 +563,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 sections,
                 "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
             );
-            for (name, _, _, _, _) in results.iter().skip(1 + screen.len()) {
+            for (name, _, _, _, _, _) in results.iter().skip(1 + screen.len()) {
                 let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
             }
             sections.push('\n');
         }
     }
 
-    let table = summary_table(&rows);
+    let table = format!("{}{}", mixed_summary(&rows), summary_table(&rows));
     print!("{table}");
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
         let rel = relative_dir(dir, md);
@@ -601,12 +676,69 @@ fn write_error(
     save_png(path, &px, sw, sh, image::ExtendedColorType::Rgb8)
 }
 
-fn summary_table(rows: &[Row]) -> String {
-    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref | ms |\n|---|---|---|---|---|---|---|---|\n");
-    for r in rows {
+/// Below full resolution: each variant's errors averaged over the views, and its speed-up
+/// over the full-resolution run of the same estimator and mode (mean of per-view ratios).
+fn mixed_summary(rows: &[Row]) -> String {
+    let mut names: Vec<&str> = Vec::new();
+    for r in rows.iter().filter(|r| r.ms.is_some()) {
+        if !names.contains(&r.variant.as_str()) {
+            names.push(&r.variant);
+        }
+    }
+    if !rows.iter().any(|r| r.full_rmse.is_some()) {
+        return String::new();
+    }
+    let mut s = String::from("Mean over the views:\n\n| variant | RMSE | band RMSE | RMSE vs full res | band RMSE vs full res | speed-up over full res |\n|---|---|---|---|---|---|\n");
+    for name in names {
+        let mine: Vec<&Row> = rows.iter().filter(|r| r.variant == name).collect();
+        let n = mine.len() as f32;
+        let mean = |f: &dyn Fn(&Row) -> f32| mine.iter().map(|r| f(r)).sum::<f32>() / n;
+        let speedups: Vec<f64> = mine
+            .iter()
+            .filter_map(|r| {
+                let full = rows.iter().find(|f| {
+                    f.view == r.view
+                        && f.estimator == r.estimator
+                        && f.mode == r.mode
+                        && f.ms.is_some()
+                        && f.full_rmse.is_none()
+                        && f.variant.split(' ').count() == 2
+                })?;
+                Some(full.ms? / r.ms?)
+            })
+            .collect();
+        let speedup = speedups.iter().sum::<f64>() / speedups.len().max(1) as f64;
+        let full = mine.iter().all(|r| r.full_rmse.is_some());
         let _ = writeln!(
             s,
-            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} | {} |",
+            "| {name} | {:.4} | {:.4} | {} | {} | {speedup:.2}× |",
+            mean(&|r| r.rmse),
+            mean(&|r| r.band_rmse),
+            if full { format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.0))) } else { "–".into() },
+            if full { format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.1))) } else { "–".into() },
+        );
+    }
+    s.push('\n');
+    s
+}
+
+fn summary_table(rows: &[Row]) -> String {
+    let mixed = rows.iter().any(|r| r.full_rmse.is_some());
+    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref |");
+    s.push_str(if mixed {
+        " RMSE vs full res | band RMSE vs full res | ms |\n|---|---|---|---|---|---|---|---|---|---|\n"
+    } else {
+        " ms |\n|---|---|---|---|---|---|---|---|\n"
+    });
+    for r in rows {
+        let full = match (mixed, r.full_rmse) {
+            (false, _) => String::new(),
+            (true, None) => " – | – |".into(),
+            (true, Some((a, b))) => format!(" {a:.4} | {b:.4} |"),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} |{full} {} |",
             r.view,
             r.variant,
             r.rmse,
@@ -633,8 +765,9 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     for (i, r) in rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"median_ms\": {}}}{}",
+            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}}}{}",
             r.view,
+            r.variant,
             r.estimator,
             r.mode,
             r.rmse,
@@ -642,6 +775,8 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             r.ssim,
             r.band_rmse,
             r.screen_rmse.map_or("null".to_string(), |m| format!("{m:.5}")),
+            r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.0)),
+            r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.1)),
             r.ms.map_or("null".to_string(), |m| format!("{m:.3}")),
             if i + 1 == rows.len() { "" } else { "," }
         );

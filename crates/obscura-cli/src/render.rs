@@ -4,7 +4,10 @@ use crate::output::{check_png_path, save_png};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use obscura::{layout, Ao, AoMode, AoOptions, AoParams, Estimator, GpuContext, Preset};
+use obscura::{
+    layout, Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext, Preset,
+    Resolution, Upsampler,
+};
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -120,6 +123,57 @@ impl SampleArgs {
     }
 }
 
+/// Parses one of the library's named choices (`T::ALL`, `T::name`), listing them on error.
+fn named<T: Copy>(all: &[T], name: fn(T) -> &'static str, s: &str) -> Result<T, String> {
+    all.iter().copied().find(|&t| name(t) == s).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&t| name(t)).collect();
+        format!("expected one of {}", names.join(", "))
+    })
+}
+
+pub fn parse_resolution(s: &str) -> Result<Resolution, String> {
+    named(&Resolution::ALL, Resolution::name, s)
+}
+pub fn parse_downsample(s: &str) -> Result<DepthDownsample, String> {
+    named(&DepthDownsample::ALL, DepthDownsample::name, s)
+}
+pub fn parse_upsampler(s: &str) -> Result<Upsampler, String> {
+    named(&Upsampler::ALL, Upsampler::name, s)
+}
+pub fn parse_denoise(s: &str) -> Result<Denoise, String> {
+    named(&Denoise::ALL, Denoise::name, s)
+}
+
+/// Mixed resolution (seeds 002, 004), shared by `render` and `bench`.
+#[derive(Debug, Args)]
+pub struct ResolutionArgs {
+    /// AO resolution: full, half or quarter.
+    #[arg(long, value_parser = parse_resolution, default_value = "full")]
+    pub resolution: Resolution,
+    /// Depth downsampling rule below full resolution: max, min, checkerboard, representative.
+    #[arg(long, value_parser = parse_downsample, default_value = "representative")]
+    pub downsample: DepthDownsample,
+    /// Upsampler below full resolution: bilinear, nearest-depth, classified, bilateral.
+    #[arg(long, value_parser = parse_upsampler, default_value = "classified")]
+    pub upsample: Upsampler,
+    /// Filtering at the working resolution: none, blur (depth-aware), box, tent.
+    #[arg(long, value_parser = parse_denoise, default_value = "none")]
+    pub denoise: Denoise,
+}
+
+impl ResolutionArgs {
+    /// `o` with these choices applied.
+    pub fn apply(&self, o: AoOptions) -> AoOptions {
+        AoOptions {
+            resolution: self.resolution,
+            downsample: self.downsample,
+            upsample: self.upsample,
+            denoise: self.denoise,
+            ..o
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NormalSource {
     /// Use the G-buffer's geometric normals (what an engine would pass in).
@@ -182,6 +236,8 @@ pub struct RenderArgs {
     /// instead of fusing them into the prepare and AO passes (for measurement).
     #[arg(long)]
     pub unfused: bool,
+    #[command(flatten)]
+    pub resolution: ResolutionArgs,
     /// Tangent bias angle in degrees (0..60).
     #[arg(long, default_value_t = AoParams::default().bias_angle_deg)]
     pub bias: f32,
@@ -248,11 +304,11 @@ fn check_args(a: &RenderArgs) -> Result<()> {
 }
 
 fn options(a: &RenderArgs) -> AoOptions {
-    AoOptions {
+    a.resolution.apply(AoOptions {
         mode: a.mode.into(),
         fused: !a.unfused,
         ..a.quality.samples.options(a.quality.estimator.into())
-    }
+    })
 }
 
 fn params(a: &RenderArgs, radius: f32) -> AoParams {
@@ -376,6 +432,15 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         options.mode.name(),
         if options.fused { "" } else { " (unfused)" },
     );
+    if !options.direct() {
+        eprintln!(
+            "ao: {} resolution, downsample {}, upsample {}, denoise {}",
+            options.resolution.name(),
+            options.downsample.name(),
+            options.upsample.name(),
+            options.denoise.name()
+        );
+    }
     let mut times = Vec::new();
     for i in 0..=a.runs {
         let t = Instant::now();
