@@ -4,8 +4,8 @@
 
 use crate::output::{check_png_path, save_png, write_text};
 use crate::render::{
-    parse_denoise, parse_downsample, parse_floats, parse_resolution, parse_upsampler,
-    EstimatorArg, ModeArg, NormalSource, SampleArgs,
+    parse_denoise, parse_downsample, parse_floats, parse_resolution, parse_upsampler, EstimatorArg,
+    ModeArg, NormalSource, SampleArgs,
 };
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -450,7 +450,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let screen_of = |e: Estimator| screen.iter().find(|s| s.0 == e).map(|s| &s.1);
         let white = vec![1.0f32; (w * h) as usize];
         // (label, estimator, mode, image, time, options)
-        type Result5 = (String, String, String, Vec<f32>, Option<f64>, Option<AoOptions>);
+        type Result5 = (
+            String,
+            String,
+            String,
+            Vec<f32>,
+            Option<f64>,
+            Option<AoOptions>,
+        );
         let mut results: Vec<Result5> = vec![(
             "white (no AO)".into(),
             "none".into(),
@@ -485,10 +492,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // The full-resolution result of the same estimator and mode, if evaluated.
         let full_of = |o: &AoOptions| {
             results.iter().find_map(|r| {
-                r.5.filter(|f| {
-                    f.direct() && f.estimator == o.estimator && f.mode == o.mode
-                })
-                .map(|_| &r.3)
+                r.5.filter(|f| f.direct() && f.estimator == o.estimator && f.mode == o.mode)
+                    .map(|_| &r.3)
             })
         };
         for (name, estimator, mode, img, ms, options) in &results {
@@ -714,8 +719,16 @@ fn mixed_summary(rows: &[Row]) -> String {
             "| {name} | {:.4} | {:.4} | {} | {} | {speedup:.2}× |",
             mean(&|r| r.rmse),
             mean(&|r| r.band_rmse),
-            if full { format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.0))) } else { "–".into() },
-            if full { format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.1))) } else { "–".into() },
+            if full {
+                format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.0)))
+            } else {
+                "–".into()
+            },
+            if full {
+                format!("{:.4}", mean(&|r| r.full_rmse.map_or(0.0, |f| f.1)))
+            } else {
+                "–".into()
+            },
         );
     }
     s.push('\n');
@@ -724,7 +737,9 @@ fn mixed_summary(rows: &[Row]) -> String {
 
 fn summary_table(rows: &[Row]) -> String {
     let mixed = rows.iter().any(|r| r.full_rmse.is_some());
-    let mut s = String::from("| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref |");
+    let mut s = String::from(
+        "| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref |",
+    );
     s.push_str(if mixed {
         " RMSE vs full res | band RMSE vs full res | ms |\n|---|---|---|---|---|---|---|---|---|---|\n"
     } else {

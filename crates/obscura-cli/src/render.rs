@@ -5,8 +5,8 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use obscura::{
-    layout, Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext, Preset,
-    Resolution, Upsampler,
+    layout, Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext,
+    Preset, Resolution, Upsampler,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;

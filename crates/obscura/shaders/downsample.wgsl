@@ -7,6 +7,9 @@
 // remain, keep the one closer to the centroid of the last three). CPU mirror: src/reference.rs, `downsample`.
 
 override RULE: u32 = 3u;
+// This pass makes prepared level LEVEL from level LEVEL - 1 (0 = full resolution).
+override LEVEL: u32 = 1u;
+override RECENTRE: bool = true;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var src: texture_2d<f32>;
@@ -82,5 +85,36 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
         }
     }
-    textureStore(dst, t, v[pick]);
+    textureStore(dst, t, recentred(t, pick, v[pick]));
+}
+
+// RECENTRE: the pick's depth moved along its own tangent plane to the ray through the
+// centre of texel t (positions are rebuilt at texel centres downstream). Kept as picked on
+// grazing surfaces (|n . ray| < 0.2) and where the move would exceed 10% of the depth.
+fn recentred(t: vec2<i32>, pick: u32, v: vec4<f32>) -> vec4<f32> {
+    if !RECENTRE {
+        return v;
+    }
+    // Full-resolution pixels per source texel (2^(LEVEL-1)) and per destination texel.
+    let s = f32(1u << (LEVEL - 1u));
+    let child = vec2<f32>(2 * t + vec2<i32>(i32(pick & 1u), i32(pick >> 1u)));
+    let p = view_position((child + 0.5) * s, v.x);
+    let centre = (vec2<f32>(t) + 0.5) * 2.0 * s;
+    let n = v.yzw;
+    var d = v.x;
+    if frame.perspective != 0u {
+        // The ray through the centre at depth 1 is r; the plane n.(X - p) = 0 meets it at d r.
+        let r = view_position(centre, 1.0);
+        let nr = dot(n, r);
+        if abs(nr) >= 0.2 * length(r) {
+            d = dot(n, p) / nr;
+        }
+    } else if abs(n.z) >= 0.2 {
+        let q = view_position(centre, v.x);
+        d = v.x + dot(n.xy, q.xy - p.xy) / n.z;
+    }
+    if !(d > 0.0) || abs(d - v.x) > 0.1 * v.x {
+        return v;
+    }
+    return vec4<f32>(d, n);
 }

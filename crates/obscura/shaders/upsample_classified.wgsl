@@ -14,9 +14,9 @@ fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
     let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
     var mean = vec3<f32>(0.0);
     var surface = true;
-    // Pyramid level log2(up_factor) holds each low texel's footprint (mip = level - 1).
-    let level = i32(firstTrailingBit(frame.up_factor)) - 1;
-    let psize = vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(u32(level));
+    // Pyramid level log2(up_factor) holds each low texel's footprint; its mip is one less.
+    let mip = firstTrailingBit(frame.up_factor) - 1u;
+    let psize = max(vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(mip), vec2<i32>(1));
     for (var i = 0u; i < 4u; i++) {
         let low = fp.low[i];
         if low.x <= 0.0 {
@@ -27,7 +27,7 @@ fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
         if plane_distance(fp.pos[i], pos, centre.yzw, centre.x) > PLANE_TOLERANCE {
             surface = false;
         }
-        let range = textureLoad(pyramid, min(fp.texel[i], max(psize, vec2<i32>(1)) - 1), level).yz;
+        let range = textureLoad(pyramid, min(fp.texel[i], psize - 1), mip).yz;
         if range.y - range.x > DEPTH_RANGE_TOLERANCE * range.x {
             surface = false;
         }

@@ -136,7 +136,10 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
     }
     for k in 1..=work_level.max(up_level) {
         steps.push(step(
-            Pass::Downsample { rule: o.downsample },
+            Pass::Downsample {
+                rule: o.downsample,
+                level: k,
+            },
             vec![(1, level(k - 1)), (2, Res::Level(k))],
             FrameAt::Full,
             Grid::Level(k),
@@ -249,6 +252,24 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
     (prepare_target, steps)
 }
 
+/// GPU objects an [`Ao`] has created since [`Ao::new`], by kind (see
+/// [`Ao::resource_creations`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ResourceCount {
+    pub buffers: u32,
+    pub textures: u32,
+    pub texture_views: u32,
+    pub bind_groups: u32,
+}
+
+/// The prepare pass's bind group, kept while the caller passes the same views.
+#[derive(Debug)]
+struct PrepareBinding {
+    depth: wgpu::TextureView,
+    normals: Option<wgpu::TextureView>,
+    bind_group: wgpu::BindGroup,
+}
+
 /// Textures and bind groups that depend on the viewport size.
 #[derive(Debug)]
 struct SizedResources {
@@ -260,6 +281,8 @@ struct SizedResources {
     /// Bind groups of every pass after prepare, in order: (compiled index, bind group,
     /// workgroups).
     later: Vec<(usize, wgpu::BindGroup, [u32; 3])>,
+    /// The prepare bind group of the last frame's input views.
+    prepare_binding: Option<PrepareBinding>,
 }
 
 impl SizedResources {
@@ -319,6 +342,7 @@ pub struct Ao {
     dummy_normals: wgpu::TextureView,
     max_dim: u32,
     sized: Option<SizedResources>,
+    created: ResourceCount,
 }
 
 fn texture_entry(
@@ -618,6 +642,12 @@ impl Ao {
             dummy_normals,
             max_dim: device.limits().max_texture_dimension_2d,
             sized: None,
+            created: ResourceCount {
+                buffers: 2,
+                textures: 1,
+                texture_views: 1,
+                bind_groups: 0,
+            },
         })
     }
 
@@ -763,7 +793,9 @@ impl Ao {
             })
             .collect();
         let find = |r: Res| textures.iter().find(|t| t.0 == r);
+        let mip_views = std::cell::Cell::new(0);
         let mip_view = |m: u32| {
+            mip_views.set(mip_views.get() + 1);
             find(Res::Pyramid).map(|t| {
                 t.1.create_view(&wgpu::TextureViewDescriptor {
                     base_mip_level: m,
@@ -833,11 +865,15 @@ impl Ao {
         } else {
             grid(Grid::Level(0))
         };
+        self.created.textures += textures.len() as u32;
+        self.created.texture_views += textures.len() as u32 + mip_views.get();
+        self.created.bind_groups += later.len() as u32;
         self.sized = Some(SizedResources {
             size,
             textures,
             prepare_dispatch,
             later,
+            prepare_binding: None,
         });
     }
 
@@ -856,7 +892,7 @@ impl Ao {
         queue.write_buffer(&self.work_uniforms, 0, bytemuck::bytes_of(&work));
         let binding = depth_binding(input.depth.texture().format())?;
         self.ensure_size(device, frame.size);
-        let Some(sized) = self.sized.as_ref() else {
+        let Some(sized) = self.sized.as_mut() else {
             return Err(Error::Gpu("size-dependent resources missing".into()));
         };
         let normals = input.normals.map_or(&self.dummy_normals, |n| n.0);
@@ -864,15 +900,31 @@ impl Ao {
             DepthBinding::Depth => 0,
             DepthBinding::Float => 1,
         }][input.normals.is_none() as usize];
-        let Some(target) = sized.view(self.prepare_target) else {
-            return Err(Error::Gpu("no prepare target".into()));
+        // The same input views as last frame (an engine's usual case): reuse the bind group.
+        let cached = sized.prepare_binding.as_ref().is_some_and(|b| {
+            &b.depth == input.depth && b.normals.as_ref() == input.normals.map(|n| n.0)
+        });
+        if !cached {
+            let Some(target) = sized.view(self.prepare_target) else {
+                return Err(Error::Gpu("no prepare target".into()));
+            };
+            let bg = bind_group(
+                device,
+                prepare,
+                &self.uniforms,
+                &[(1, input.depth), (2, normals), (3, target)],
+            );
+            self.created.bind_groups += 1;
+            sized.prepare_binding = Some(PrepareBinding {
+                depth: input.depth.clone(),
+                normals: input.normals.map(|n| n.0.clone()),
+                bind_group: bg,
+            });
+        }
+        let Some(prepare_bind) = sized.prepare_binding.as_ref().map(|b| b.bind_group.clone())
+        else {
+            return Err(Error::Gpu("prepare bind group missing".into()));
         };
-        let prepare_bind = bind_group(
-            device,
-            prepare,
-            &self.uniforms,
-            &[(1, input.depth), (2, normals), (3, target)],
-        );
         let mut passes = vec![(prepare, prepare_bind, sized.prepare_dispatch)];
         for (i, bg, d) in &sized.later {
             passes.push((&self.later[*i], bg.clone(), *d));
@@ -992,6 +1044,14 @@ impl Ao {
                     .collect())
             }
         }
+    }
+
+    /// How many GPU objects this `Ao` has created. Frames at an unchanged size with the same
+    /// input views create nothing; a resize recreates only the size-dependent textures,
+    /// views and bind groups; new input views cost one bind group. ([`Ao::run_timed`], for
+    /// benchmarks, also creates query buffers, not counted.)
+    pub fn resource_creations(&self) -> ResourceCount {
+        self.created
     }
 
     /// The AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a frame was recorded.

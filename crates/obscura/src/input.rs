@@ -181,6 +181,74 @@ impl Projection {
         Ok(())
     }
 
+    /// The projection a matrix encodes. Layout: column-major (`m[column][row]`, glam's
+    /// `to_cols_array_2d`), taking right-handed view space (x right, y up, camera looking
+    /// down −z) to clip space with NDC depth in [0, 1] (wgpu, Vulkan, Metal, D3D), encoded in
+    /// `convention` (`LinearView`: read as `Standard`). Perspective when `m[2][3] = −1`,
+    /// orthographic when it is 0 and `m[3][3] = 1`. Off-centre (`m[2][0]`, `m[2][1]` ≠ 0 for
+    /// perspective, `m[3][0]`, `m[3][1]` ≠ 0 for orthographic), mirrored (negative scale) or
+    /// degenerate matrices are a typed error.
+    pub fn from_matrix(m: [[f32; 4]; 4], convention: DepthConvention) -> Result<Self> {
+        let bad = |msg: &str| {
+            Err(Error::InvalidProjection(format!(
+                "projection matrix: {msg}"
+            )))
+        };
+        if m.iter().flatten().any(|v| !v.is_finite()) {
+            return bad("has a non-finite entry");
+        }
+        let (sx, sy, a, b) = (m[0][0], m[1][1], m[2][2], m[3][2]);
+        if sx < 0.0 || sy < 0.0 {
+            return bad("is mirrored (negative x or y scale); flip the image instead");
+        }
+        if sx == 0.0 || sy == 0.0 {
+            return bad("is degenerate (zero x or y scale)");
+        }
+        let eps = 1e-6 * sx.max(sy);
+        let perspective = (m[2][3] + 1.0).abs() < 1e-6 && m[3][3].abs() < 1e-6;
+        let orthographic = m[2][3].abs() < 1e-6 && (m[3][3] - 1.0).abs() < 1e-6;
+        // NDC depth z = (a·v.z + b) / w, with v.z = −d and w = d (perspective) or 1.
+        let projection = if perspective {
+            if m[2][0].abs() > eps || m[2][1].abs() > eps {
+                return bad("is off-centre (asymmetric frusta are not supported)");
+            }
+            // z = −a + b/d: standard 0 at near, 1 at far; reversed 1 at near, 0 at far.
+            let (near, far) = match convention {
+                DepthConvention::Standard | DepthConvention::LinearView => (b / a, b / (1.0 + a)),
+                DepthConvention::ReversedZ => (b / (1.0 + a), b / a),
+                DepthConvention::ReversedZInfinite => (b, f32::INFINITY),
+            };
+            Projection::Perspective {
+                fov_y: 2.0 * (1.0 / sy).atan(),
+                aspect: sy / sx,
+                near,
+                far,
+            }
+        } else if orthographic {
+            if m[3][0].abs() > eps || m[3][1].abs() > eps {
+                return bad("is off-centre (asymmetric volumes are not supported)");
+            }
+            // z = −a·d + b.
+            let (near, far) = match convention {
+                DepthConvention::Standard | DepthConvention::LinearView => (b / a, (b - 1.0) / a),
+                DepthConvention::ReversedZ => ((b - 1.0) / a, b / a),
+                DepthConvention::ReversedZInfinite => {
+                    return bad("orthographic projections have no infinite far plane");
+                }
+            };
+            Projection::Orthographic {
+                half_width: 1.0 / sx,
+                half_height: 1.0 / sy,
+                near,
+                far,
+            }
+        } else {
+            return bad("is neither perspective (m[2][3] = −1, m[3][3] = 0) nor orthographic (m[2][3] = 0, m[3][3] = 1)");
+        };
+        projection.validate()?;
+        Ok(projection)
+    }
+
     /// Is this a perspective projection?
     pub fn is_perspective(&self) -> bool {
         matches!(self, Projection::Perspective { .. })
@@ -300,6 +368,86 @@ impl Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Matrices from glam (an independent implementation of the usual conventions) give back
+    /// the parameters they were made from; mirrored and off-centre ones are refused.
+    #[test]
+    fn projection_from_matrix_round_trips_glam() {
+        use glam::camera::rh::proj::directx as dx;
+        use glam::Mat4;
+        let (fov, aspect, n, f) = (1.1f32, 1.6f32, 0.3f32, 250.0f32);
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * b.abs().max(1.0);
+        let cases = [
+            (
+                dx::perspective(fov, aspect, n, f),
+                DepthConvention::Standard,
+                f,
+            ),
+            // Reversed Z: near and far swapped.
+            (
+                dx::perspective(fov, aspect, f, n),
+                DepthConvention::ReversedZ,
+                f,
+            ),
+            (
+                dx::perspective_infinite_reverse(fov, aspect, n),
+                DepthConvention::ReversedZInfinite,
+                f32::INFINITY,
+            ),
+        ];
+        for (m, conv, far) in cases {
+            match Projection::from_matrix(m.to_cols_array_2d(), conv).unwrap() {
+                Projection::Perspective {
+                    fov_y,
+                    aspect: a,
+                    near,
+                    far: fa,
+                } => {
+                    assert!(
+                        close(fov_y, fov) && close(a, aspect) && close(near, n),
+                        "{conv:?}"
+                    );
+                    assert!(fa == far || close(fa, far), "{conv:?}: far {fa}");
+                }
+                p => panic!("{conv:?}: {p:?}"),
+            }
+        }
+        let o = dx::orthographic(-4.0, 4.0, -2.5, 2.5, 0.5, 40.0);
+        match Projection::from_matrix(o.to_cols_array_2d(), DepthConvention::Standard).unwrap() {
+            Projection::Orthographic {
+                half_width,
+                half_height,
+                near,
+                far,
+            } => assert!(
+                close(half_width, 4.0)
+                    && close(half_height, 2.5)
+                    && close(near, 0.5)
+                    && close(far, 40.0)
+            ),
+            p => panic!("{p:?}"),
+        }
+        let mirrored =
+            Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)) * dx::perspective(fov, aspect, n, f);
+        let off_centre = dx::orthographic(-1.0, 3.0, -2.0, 2.0, 0.5, 40.0);
+        let mut nan = dx::perspective(fov, aspect, n, f).to_cols_array_2d();
+        nan[1][1] = f32::NAN;
+        for (m, what) in [
+            (mirrored.to_cols_array_2d(), "mirrored"),
+            (off_centre.to_cols_array_2d(), "off-centre"),
+            (nan, "non-finite"),
+            (Mat4::IDENTITY.to_cols_array_2d(), "degenerate depth"),
+            ([[0.0; 4]; 4], "degenerate"),
+        ] {
+            assert!(
+                matches!(
+                    Projection::from_matrix(m, DepthConvention::Standard),
+                    Err(Error::InvalidProjection(_))
+                ),
+                "{what} accepted"
+            );
+        }
+    }
 
     const CONVENTIONS: [DepthConvention; 4] = [
         DepthConvention::Standard,

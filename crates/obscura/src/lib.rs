@@ -27,7 +27,7 @@ pub mod settings;
 pub mod shader;
 pub mod uniforms;
 
-pub use ao::{Ao, AoInput, Timing};
+pub use ao::{Ao, AoInput, ResourceCount, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};

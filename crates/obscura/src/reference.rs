@@ -464,10 +464,14 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
     out
 }
 
-/// Depth downsampling 2×2 → 1 of a prepared buffer (`size` pixels) by `rule`; mirrors
-/// shaders/downsample.wgsl. Returns the `ceil(size / 2)` result.
+/// Depth downsampling 2×2 → 1 of prepared level `level − 1` (`size` pixels) into level
+/// `level` by `rule`, recentring the pick when `recentre`; mirrors shaders/downsample.wgsl.
+/// `f`: the full-resolution frame. Returns the `ceil(size / 2)` result.
 pub fn downsample(
     rule: crate::DepthDownsample,
+    f: &FrameUniforms,
+    level: u32,
+    recentre: bool,
     size: [u32; 2],
     prepared: &[Vec4],
 ) -> ([u32; 2], Vec<Vec4>) {
@@ -476,12 +480,13 @@ pub fn downsample(
     let mut out = Vec::with_capacity((dst[0] * dst[1]) as usize);
     for ty in 0..dst[1] {
         for tx in 0..dst[0] {
-            let children: Vec<Vec4> = (0..4)
+            // (child index, value): the index places the pick for recentring.
+            let children: Vec<(u32, Vec4)> = (0..4)
                 .filter_map(|i| {
                     let (x, y) = (2 * tx + (i & 1), 2 * ty + (i >> 1));
                     (x < size[0] && y < size[1])
-                        .then(|| prepared[(y * size[0] + x) as usize])
-                        .filter(|v| v.x > 0.0)
+                        .then(|| (i, prepared[(y * size[0] + x) as usize]))
+                        .filter(|v| v.1.x > 0.0)
                 })
                 .collect();
             if children.is_empty() {
@@ -496,35 +501,67 @@ pub fn downsample(
             let pick = match rule {
                 R::Max => children
                     .iter()
-                    .fold(children[0], |a, &b| if b.x > a.x { b } else { a }),
+                    .fold(children[0], |a, &b| if b.1.x > a.1.x { b } else { a }),
                 R::Min => children
                     .iter()
-                    .fold(children[0], |a, &b| if b.x < a.x { b } else { a }),
+                    .fold(children[0], |a, &b| if b.1.x < a.1.x { b } else { a }),
                 _ => most_representative(&children),
             };
-            out.push(pick);
+            out.push(if recentre {
+                recentred(f, level, [tx, ty], pick.0, pick.1)
+            } else {
+                pick.1
+            });
         }
     }
     (dst, out)
 }
 
+/// The pick moved along its tangent plane to the centre of texel `t`; mirrors `recentred`
+/// in shaders/downsample.wgsl.
+fn recentred(f: &FrameUniforms, level: u32, t: [u32; 2], pick: u32, v: Vec4) -> Vec4 {
+    let s = (1u32 << (level - 1)) as f32;
+    let child = [
+        (2 * t[0] + (pick & 1)) as f32,
+        (2 * t[1] + (pick >> 1)) as f32,
+    ];
+    let p = f.view_position([(child[0] + 0.5) * s, (child[1] + 0.5) * s], v.x);
+    let centre = [(t[0] as f32 + 0.5) * 2.0 * s, (t[1] as f32 + 0.5) * 2.0 * s];
+    let n = Vec3::new(v.y, v.z, v.w);
+    let mut d = v.x;
+    if f.perspective != 0 {
+        let r = f.view_position(centre, 1.0);
+        let nr = n.dot(r);
+        if nr.abs() >= 0.2 * r.length() {
+            d = n.dot(p) / nr;
+        }
+    } else if n.z.abs() >= 0.2 {
+        let q = f.view_position(centre, v.x);
+        d = v.x + (n.x * (q.x - p.x) + n.y * (q.y - p.y)) / n.z;
+    }
+    if !(d > 0.0) || (d - v.x).abs() > 0.1 * v.x {
+        return v;
+    }
+    Vec4::new(d, v.y, v.z, v.w)
+}
+
 /// Seed 004's rule: drop the sample farthest from the centroid of those left until two
 /// remain, then keep the one closer to the last centroid (ties: the earlier).
-fn most_representative(c: &[Vec4]) -> Vec4 {
-    let mut anchor = c.iter().map(|v| v.x).sum::<f32>() / c.len() as f32;
-    let mut alive: Vec<Vec4> = c.to_vec();
+fn most_representative(c: &[(u32, Vec4)]) -> (u32, Vec4) {
+    let mut anchor = c.iter().map(|v| v.1.x).sum::<f32>() / c.len() as f32;
+    let mut alive: Vec<(u32, Vec4)> = c.to_vec();
     while alive.len() > 2 {
-        let centroid = alive.iter().map(|v| v.x).sum::<f32>() / alive.len() as f32;
+        let centroid = alive.iter().map(|v| v.1.x).sum::<f32>() / alive.len() as f32;
         anchor = centroid;
         let mut worst = 0;
         for i in 1..alive.len() {
-            if (alive[i].x - centroid).abs() > (alive[worst].x - centroid).abs() {
+            if (alive[i].1.x - centroid).abs() > (alive[worst].1.x - centroid).abs() {
                 worst = i;
             }
         }
         alive.remove(worst);
     }
-    if alive.len() == 2 && (alive[1].x - anchor).abs() < (alive[0].x - anchor).abs() {
+    if alive.len() == 2 && (alive[1].1.x - anchor).abs() < (alive[0].1.x - anchor).abs() {
         alive[1]
     } else {
         alive[0]

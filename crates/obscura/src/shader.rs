@@ -68,7 +68,7 @@ pub enum Pass {
     /// One level of the min/max depth pyramid (also SAO's depth mips).
     Pyramid { source: PyramidSource },
     /// Prepared buffer 2×2 → 1 by a depth rule.
-    Downsample { rule: DepthDownsample },
+    Downsample { rule: DepthDownsample, level: u32 },
     /// Low-resolution AO → full resolution.
     Upsample { upsampler: Upsampler },
     /// One axis of the depth-aware blur.
@@ -106,7 +106,7 @@ impl Pass {
         ] {
             v.push(Pass::Pyramid { source });
         }
-        v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule }));
+        v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
         v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
         for b in [false, true] {
             v.extend([Pass::Blur { vertical: b }, Pass::AoDownsample { tent: b }]);
@@ -153,7 +153,7 @@ impl Pass {
                 PyramidSource::Layers => "pyramid_from_layers",
                 PyramidSource::Mip => "pyramid",
             },
-            Pass::Downsample { rule } => match rule {
+            Pass::Downsample { rule, .. } => match rule {
                 DepthDownsample::Max => "downsample_max",
                 DepthDownsample::Min => "downsample_min",
                 DepthDownsample::Checkerboard => "downsample_checkerboard",
@@ -282,15 +282,19 @@ impl Pass {
                 source: PyramidSource::Layers,
             } => vec![split],
             Pass::Pyramid { .. } | Pass::Upsample { .. } => vec![],
-            Pass::Downsample { rule } => vec![(
-                "RULE",
-                match rule {
-                    DepthDownsample::Max => 0.0,
-                    DepthDownsample::Min => 1.0,
-                    DepthDownsample::Checkerboard => 2.0,
-                    DepthDownsample::Representative => 3.0,
-                },
-            )],
+            Pass::Downsample { rule, level } => vec![
+                (
+                    "RULE",
+                    match rule {
+                        DepthDownsample::Max => 0.0,
+                        DepthDownsample::Min => 1.0,
+                        DepthDownsample::Checkerboard => 2.0,
+                        DepthDownsample::Representative => 3.0,
+                    },
+                ),
+                ("LEVEL", level as f64),
+                ("RECENTRE", options.recentre as u32 as f64),
+            ],
             Pass::Blur { vertical } => vec![("VERTICAL", vertical as u32 as f64)],
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),

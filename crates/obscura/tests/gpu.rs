@@ -4,8 +4,8 @@
 use glam::{Vec3, Vec4};
 use obscura::{
     layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention,
-    DepthDownsample, Error, Estimator, GpuContext, Projection, Resolution, Timing, Upsampler,
-    Viewport,
+    DepthDownsample, Error, Estimator, GpuContext, Projection, Resolution, ResourceCount, Timing,
+    Upsampler, Viewport,
 };
 use std::sync::{Mutex, OnceLock};
 
@@ -1182,6 +1182,7 @@ fn downsample_rules_on_hand_made_blocks() {
         let options = AoOptions {
             resolution: Resolution::Half,
             downsample: rule,
+            recentre: false,
             mode: AoMode::Randomized,
             ..Default::default()
         };
@@ -1245,7 +1246,8 @@ fn mixed_resolution_matches_cpu_reference() {
                 let mut size = [W, H];
                 let mut level = r.prepared.clone();
                 for (k, gpu) in r.levels.iter().enumerate() {
-                    (size, level) = reference::downsample(rule, size, &level);
+                    (size, level) =
+                        reference::downsample(rule, &r.frame, k as u32 + 1, true, size, &level);
                     assert_eq!(gpu, &level, "{what}: level {}", k + 1);
                 }
                 assert_eq!(size, [W, H].map(|s| s.div_ceil(resolution.factor())));
@@ -1513,6 +1515,165 @@ fn odd_sizes_keep_features_in_place() {
                 assert!(
                     g.abs_diff(w0) <= slack,
                     "{w}x{h} {resolution:?}: outline {got:?}, full resolution {want:?}"
+                );
+            }
+        }
+    }
+}
+
+/// Per-frame work creates no GPU object: 100 frames at one size with the same input views
+/// cost nothing after the first; a resize recreates only size-dependent objects (the same
+/// number as the first frame's); a new depth view costs exactly one bind group. Counted by
+/// the library itself (every creation site) and cross-checked with wgpu's live-object
+/// counters where the `counters` feature is on (dev builds of this test).
+#[test]
+fn frames_create_no_gpu_objects() {
+    let _g = lock();
+    let c = ctx();
+    for options in [
+        AoOptions::default(),
+        AoOptions {
+            estimator: Estimator::Sao,
+            resolution: Resolution::Half,
+            denoise: Denoise::Blur,
+            ..Default::default()
+        },
+        AoOptions {
+            resolution: Resolution::Quarter,
+            denoise: Denoise::Tent,
+            mode: AoMode::Deinterleaved4,
+            fused: false,
+            ..Default::default()
+        },
+    ] {
+        let mut ao = Ao::new(&c.device, options).unwrap();
+        let at_creation = ao.resource_creations();
+        let frame = |ao: &mut Ao, view: &wgpu::TextureView| {
+            let input = linear_input(view, persp(W, H));
+            c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &AoParams::default()))
+                .unwrap();
+        };
+        let p = persp(W, H);
+        let tex = upload_r32(&test_scene(&p, W, H), W, H);
+        let view = tex.create_view(&Default::default());
+        frame(&mut ao, &view);
+        let after_first = ao.resource_creations();
+        assert!(after_first.textures > at_creation.textures, "{options:?}");
+        let live = c.device.get_internal_counters().hal;
+        let live_before = (
+            live.textures.read(),
+            live.texture_views.read(),
+            live.bind_groups.read(),
+            live.buffers.read(),
+        );
+        for _ in 0..100 {
+            frame(&mut ao, &view);
+        }
+        assert_eq!(
+            ao.resource_creations(),
+            after_first,
+            "{options:?}: frames created objects"
+        );
+        let live = c.device.get_internal_counters().hal;
+        let live_after = (
+            live.textures.read(),
+            live.texture_views.read(),
+            live.bind_groups.read(),
+            live.buffers.read(),
+        );
+        assert_eq!(
+            live_before, live_after,
+            "{options:?}: live wgpu objects changed over 100 frames"
+        );
+        // A new view of the same texture: one bind group, nothing else.
+        let view2 = tex.create_view(&Default::default());
+        frame(&mut ao, &view2);
+        let d = ao.resource_creations();
+        assert_eq!(
+            (d.textures, d.texture_views, d.buffers, d.bind_groups),
+            (
+                after_first.textures,
+                after_first.texture_views,
+                after_first.buffers,
+                after_first.bind_groups + 1
+            ),
+            "{options:?}: new input view"
+        );
+        // A resize recreates the size-dependent set once (same counts as the first frame).
+        let (w2, h2) = (W + 10, H + 6);
+        let p2 = persp(w2, h2);
+        let tex2 = upload_r32(&test_scene(&p2, w2, h2), w2, h2);
+        let view3 = tex2.create_view(&Default::default());
+        let per_size = |a: ResourceCount, b: ResourceCount| {
+            (
+                a.textures - b.textures,
+                a.texture_views - b.texture_views,
+                a.bind_groups - b.bind_groups,
+                a.buffers - b.buffers,
+            )
+        };
+        let before_resize = ao.resource_creations();
+        for _ in 0..3 {
+            let input = linear_input(&view3, p2);
+            c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &AoParams::default()))
+                .unwrap();
+        }
+        assert_eq!(
+            per_size(ao.resource_creations(), before_resize),
+            per_size(after_first, at_creation),
+            "{options:?}: a resize recreates exactly the size-dependent objects, once"
+        );
+    }
+}
+
+/// Recentring puts each low-resolution depth on the surface at the texel centre: on a
+/// tilted plane the half and quarter levels equal the plane's analytic depth at the texel
+/// centres (the pixel centres of a half- and quarter-size image), while the raw picks do
+/// not (they sit up to a pixel's slope off).
+#[test]
+fn recentred_levels_lie_on_the_surface() {
+    let _g = lock();
+    let (w, h) = (64, 40);
+    let p = persp(w, h);
+    let plane = [(
+        Vec3::new(0.0, 0.0, -5.0),
+        Vec3::new(0.0, 50f32.to_radians().sin(), 50f32.to_radians().cos()),
+    )];
+    let raw = ray_cast(&p, w, h, &plane, &[]);
+    for recentre in [true, false] {
+        let options = AoOptions {
+            resolution: Resolution::Quarter,
+            recentre,
+            mode: AoMode::Randomized,
+            ..Default::default()
+        };
+        let r = run_ao(
+            &raw,
+            w,
+            h,
+            p,
+            DepthConvention::LinearView,
+            None,
+            options,
+            &AoParams::default(),
+        );
+        for (k, level) in r.levels.iter().enumerate() {
+            let f = 2u32 << k;
+            let (lw, lh) = (w / f, h / f);
+            let truth = ray_cast(&p, lw, lh, &plane, &[]);
+            // Interior texels (border normals fall back to one-sided differences).
+            let worst = (1..lh - 1)
+                .flat_map(|y| (1..lw - 1).map(move |x| (y * lw + x) as usize))
+                .filter(|&i| truth[i] > 0.0)
+                .map(|i| (level[i].x - truth[i]).abs() / truth[i])
+                .fold(0.0, f32::max);
+            if recentre {
+                assert!(worst < 1e-4, "level {}: relative error {worst}", k + 1);
+            } else {
+                assert!(
+                    worst > 1e-3,
+                    "level {}: raw picks should be off the centre ({worst})",
+                    k + 1
                 );
             }
         }
