@@ -84,10 +84,10 @@ pub struct EvalArgs {
     #[arg(long, value_parser = parse_resolution, value_delimiter = ',', default_value = "full")]
     pub resolutions: Vec<Resolution>,
     /// Depth downsampling rules for the low resolutions (comma-separated).
-    #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "representative")]
+    #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,
     /// Upsamplers for the low resolutions (comma-separated).
-    #[arg(long, value_parser = parse_upsampler, value_delimiter = ',', default_value = "classified")]
+    #[arg(long, value_parser = parse_upsampler, value_delimiter = ',', default_value = "bilateral")]
     pub upsamplers: Vec<Upsampler>,
     /// Denoise choices (comma-separated; at full resolution too).
     #[arg(long, value_parser = parse_denoise, value_delimiter = ',', default_value = "none")]

@@ -151,10 +151,10 @@ pub struct ResolutionArgs {
     #[arg(long, value_parser = parse_resolution, default_value = "full")]
     pub resolution: Resolution,
     /// Depth downsampling rule below full resolution: max, min, checkerboard, representative.
-    #[arg(long, value_parser = parse_downsample, default_value = "representative")]
+    #[arg(long, value_parser = parse_downsample, default_value = "checkerboard")]
     pub downsample: DepthDownsample,
     /// Upsampler below full resolution: bilinear, nearest-depth, classified, bilateral.
-    #[arg(long, value_parser = parse_upsampler, default_value = "classified")]
+    #[arg(long, value_parser = parse_upsampler, default_value = "bilateral")]
     pub upsample: Upsampler,
     /// Filtering at the working resolution: none, blur (depth-aware), box, tent.
     #[arg(long, value_parser = parse_denoise, default_value = "none")]
@@ -250,6 +250,20 @@ pub struct RenderArgs {
     /// Where the AO normals come from.
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
+    /// A captured depth map instead of a scene: 16-bit PNG (units set by the intrinsics'
+    /// depth_scale, default millimetres), 32-bit float EXR or .npy (float32/float16/uint16).
+    /// 0, NaN and infinite depths are missing data. Needs --intrinsics.
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "intrinsics",
+        conflicts_with = "scene"
+    )]
+    pub depth: Option<PathBuf>,
+    /// Pinhole intrinsics of --depth as JSON: fx, fy, cx, cy (pixels, OpenCV convention),
+    /// width, height, and optionally depth_scale (scene units per stored unit; 0.001).
+    #[arg(long, value_name = "JSON", requires = "depth")]
+    pub intrinsics: Option<PathBuf>,
     /// Output AO image (8-bit grayscale PNG, white = unoccluded).
     #[arg(long, default_value = "ao.png")]
     pub out: PathBuf,
@@ -303,7 +317,7 @@ fn check_args(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-fn options(a: &RenderArgs) -> AoOptions {
+pub(crate) fn options(a: &RenderArgs) -> AoOptions {
     a.resolution.apply(AoOptions {
         mode: a.mode.into(),
         fused: !a.unfused,
@@ -311,7 +325,7 @@ fn options(a: &RenderArgs) -> AoOptions {
     })
 }
 
-fn params(a: &RenderArgs, radius: f32) -> AoParams {
+pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {
     AoParams {
         radius,
         bias_angle_deg: a.bias,
@@ -388,6 +402,9 @@ fn median_ms(mut v: Vec<f64>) -> f64 {
 
 pub fn run(a: &RenderArgs) -> Result<()> {
     check_args(a)?;
+    if let (Some(depth), Some(intrinsics)) = (&a.depth, &a.intrinsics) {
+        return crate::depthmap::run(a, depth, intrinsics);
+    }
     let t0 = Instant::now();
     let (mesh, name) = match &a.scene {
         Some(p) => (

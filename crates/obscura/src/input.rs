@@ -22,8 +22,18 @@ pub enum DepthConvention {
     LinearView,
 }
 
-/// A camera projection, described by parameters rather than a matrix so it cannot be
-/// ambiguous about layout or handedness.
+impl DepthConvention {
+    /// Every convention.
+    pub const ALL: [DepthConvention; 4] = [
+        DepthConvention::Standard,
+        DepthConvention::ReversedZ,
+        DepthConvention::ReversedZInfinite,
+        DepthConvention::LinearView,
+    ];
+}
+
+/// A camera projection, described by parameters (or read from a matrix with
+/// [`Projection::from_matrix`], whose layout is stated there).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Projection {

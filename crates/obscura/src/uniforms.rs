@@ -167,3 +167,109 @@ impl FrameUniforms {
         xy.extend(-d)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{AoMode, Estimator, Resolution};
+
+    /// Property test of settings validation: thousands of random option, parameter,
+    /// projection, convention and viewport combinations (floats drawn from a bag of
+    /// awkward values) never panic; whatever validates yields finite uniforms.
+    #[test]
+    fn random_settings_validate_or_refuse_never_panic() {
+        let bag = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            1e-8,
+            1e8,
+            3.0,
+            60.0,
+            4096.0,
+            1e30,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let cases: usize = std::env::var("OBSCURA_FUZZ_CASES")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(20000);
+        let (mut ok, mut refused) = (0, 0);
+        for _ in 0..cases {
+            let mut f = || bag[(next() % bag.len() as u64) as usize];
+            let options = AoOptions {
+                estimator: Estimator::ALL[(f().to_bits() % 5) as usize],
+                directions: (f().abs().min(100.0)) as u32,
+                steps: (f().abs().min(100.0)) as u32,
+                mode: AoMode::ALL[(f().to_bits() % 3) as usize],
+                resolution: Resolution::ALL[(f().to_bits() % 3) as usize],
+                ..Default::default()
+            };
+            let params = AoParams {
+                radius: f(),
+                bias_angle_deg: f(),
+                strength: f(),
+                max_radius_px: f(),
+            };
+            let projection = if f() > 0.0 {
+                Projection::Perspective {
+                    fov_y: f(),
+                    aspect: f(),
+                    near: f(),
+                    far: f(),
+                }
+            } else {
+                Projection::Orthographic {
+                    half_width: f(),
+                    half_height: f(),
+                    near: f(),
+                    far: f(),
+                }
+            };
+            let convention = DepthConvention::ALL[(f().to_bits() % 4) as usize];
+            let viewport = Viewport {
+                x: 0,
+                y: 0,
+                width: (f().abs().min(1e5)) as u32,
+                height: (f().abs().min(1e5)) as u32,
+            };
+            match FrameUniforms::new(&projection, convention, None, viewport, &options, &params) {
+                Ok(u) => {
+                    ok += 1;
+                    let floats = [
+                        u.inv_size[0],
+                        u.inv_size[1],
+                        u.ndc_to_view[0],
+                        u.ndc_to_view[1],
+                        u.lin_a,
+                        u.lin_b,
+                        u.radius,
+                        u.inv_radius2,
+                        u.radius_to_px,
+                        u.ao_scale,
+                    ];
+                    assert!(
+                        floats.iter().all(|v| v.is_finite()),
+                        "{options:?} {params:?} {projection:?}: {u:?}"
+                    );
+                    assert!((1..=64).contains(&options.directions) && params.radius > 0.0);
+                }
+                Err(_) => refused += 1,
+            }
+        }
+        assert!(ok > 0 && refused > 0, "{ok} accepted, {refused} refused");
+    }
+}

@@ -1,0 +1,552 @@
+//! Real captured depth maps as input (`obscura render --depth FILE --intrinsics JSON`):
+//! 16-bit PNG, 32-bit float EXR or `.npy` (float32, float16 or uint16), pinhole intrinsics
+//! in JSON. Depth 0, NaN and ±inf are missing data: sky, never a near occluder.
+//!
+//! obscura's projections are centred, and a camera's principal point rarely is: the depth is
+//! padded with missing pixels until (cx, cy) sits at the centre (sky never occludes, so the
+//! padding changes nothing), and the AO is cropped back to the input size.
+
+use anyhow::{bail, Context, Result};
+use std::path::Path;
+
+/// Pinhole intrinsics (OpenCV convention: integer pixel coordinates at pixel centres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intrinsics {
+    pub fx: f32,
+    pub fy: f32,
+    pub cx: f32,
+    pub cy: f32,
+    pub width: u32,
+    pub height: u32,
+    /// Scene units (metres) per stored depth unit, e.g. 0.001 for millimetres.
+    pub depth_scale: f32,
+}
+
+/// Largest depth map accepted, per side (the AO still checks the adapter's limit).
+const MAX_SIDE: u32 = 16384;
+
+impl Intrinsics {
+    /// Parses `{"fx":…, "fy":…, "cx":…, "cy":…, "width":…, "height":…, "depth_scale":…}`;
+    /// `depth_scale` defaults to 0.001 (millimetres); other keys are ignored.
+    pub fn parse(text: &str) -> Result<Self> {
+        let v: serde_json::Value = serde_json::from_str(text).context("intrinsics are not JSON")?;
+        let num = |k: &str| -> Result<f64> {
+            v.get(k)
+                .with_context(|| format!("intrinsics lack `{k}`"))?
+                .as_f64()
+                .with_context(|| format!("intrinsics `{k}` is not a number"))
+        };
+        let dim = |k: &str| -> Result<u32> {
+            let x = num(k)?;
+            if !(x >= 1.0 && x <= MAX_SIDE as f64 && x.fract() == 0.0) {
+                bail!("intrinsics `{k}` = {x} must be an integer in 1..={MAX_SIDE}");
+            }
+            Ok(x as u32)
+        };
+        let i = Intrinsics {
+            fx: num("fx")? as f32,
+            fy: num("fy")? as f32,
+            cx: num("cx")? as f32,
+            cy: num("cy")? as f32,
+            width: dim("width")?,
+            height: dim("height")?,
+            depth_scale: match v.get("depth_scale") {
+                None => 0.001,
+                Some(s) => s
+                    .as_f64()
+                    .context("intrinsics `depth_scale` is not a number")?
+                    as f32,
+            },
+        };
+        for (k, x) in [("fx", i.fx), ("fy", i.fy), ("depth_scale", i.depth_scale)] {
+            if !(x.is_finite() && x > 0.0) {
+                bail!("intrinsics `{k}` = {x} must be finite and > 0");
+            }
+        }
+        // The principal point must lie in the image (with a pixel of slack).
+        if !(i.cx.is_finite() && i.cx >= -1.0 && i.cx <= i.width as f32)
+            || !(i.cy.is_finite() && i.cy >= -1.0 && i.cy <= i.height as f32)
+        {
+            bail!(
+                "intrinsics principal point ({}, {}) lies outside the {}x{} image",
+                i.cx,
+                i.cy,
+                i.width,
+                i.height
+            );
+        }
+        Ok(i)
+    }
+
+    /// Padding (left, top, right, bottom) that centres the principal point, and the
+    /// centred projection of the padded image.
+    pub fn centred(&self, near: f32, far: f32) -> ([u32; 4], obscura::Projection) {
+        // Pixel centre u has continuous coordinate u + 0.5; the principal point is at
+        // cx + 0.5. Padding l left and r right centres it when cx + 0.5 + l = (w + l + r) / 2.
+        let pad = |c: f32, n: u32| -> (u32, u32) {
+            let twice = 2.0 * (c + 0.5) - n as f32; // = r - l
+            if twice >= 0.0 {
+                (0, twice.round() as u32)
+            } else {
+                ((-twice).round() as u32, 0)
+            }
+        };
+        let (l, r) = pad(self.cx, self.width);
+        let (t, b) = pad(self.cy, self.height);
+        let (w, h) = ((self.width + l + r) as f32, (self.height + t + b) as f32);
+        let projection = obscura::Projection::Perspective {
+            fov_y: 2.0 * (h / (2.0 * self.fy)).atan(),
+            aspect: (w / (2.0 * self.fx)) / (h / (2.0 * self.fy)),
+            near,
+            far,
+        };
+        ([l, t, r, b], projection)
+    }
+}
+
+/// A depth map in scene units, row-major; 0 = missing.
+pub struct DepthMap {
+    pub width: u32,
+    pub height: u32,
+    pub depth: Vec<f32>,
+}
+
+/// Loads a depth map by extension (.png 16-bit, .exr, .npy), scaled by `scale`.
+pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let bytes =
+        std::fs::read(path).with_context(|| format!("cannot read depth `{}`", path.display()))?;
+    let (width, height, raw) = match ext.as_str() {
+        "png" | "exr" => decode_image(&bytes, &ext)?,
+        "npy" => decode_npy(&bytes)?,
+        _ => bail!(
+            "depth `{}`: unsupported format (expected .png with 16-bit values, .exr or .npy)",
+            path.display()
+        ),
+    };
+    let depth = raw
+        .into_iter()
+        .map(|d| {
+            let d = d * scale;
+            if d.is_finite() && d > 0.0 {
+                d
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    Ok(DepthMap {
+        width,
+        height,
+        depth,
+    })
+}
+
+fn check_size(w: u32, h: u32) -> Result<()> {
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        bail!("depth map is {w}x{h}; each side must be in 1..={MAX_SIDE}");
+    }
+    Ok(())
+}
+
+fn decode_image(bytes: &[u8], ext: &str) -> Result<(u32, u32, Vec<f32>)> {
+    let format = if ext == "png" {
+        image::ImageFormat::Png
+    } else {
+        image::ImageFormat::OpenExr
+    };
+    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    reader.limits(limits);
+    let img = reader.decode().context("cannot decode the depth image")?;
+    check_size(img.width(), img.height())?;
+    let (w, h) = (img.width(), img.height());
+    let values = match img {
+        image::DynamicImage::ImageLuma16(b) => b.into_raw().into_iter().map(f32::from).collect(),
+        image::DynamicImage::ImageRgb32F(b) => b.pixels().map(|p| p.0[0]).collect(),
+        image::DynamicImage::ImageRgba32F(b) => b.pixels().map(|p| p.0[0]).collect(),
+        other => bail!(
+            "depth images must be 16-bit single-channel PNG or float EXR (got {:?}); 8-bit \
+             images cannot hold depth",
+            other.color()
+        ),
+    };
+    Ok((w, h, values))
+}
+
+/// A `.npy` array (version 1–3 header): 2-D, C order, little-endian float32, float16 or
+/// uint16.
+fn decode_npy(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>)> {
+    if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
+        bail!("not a .npy file (bad magic)");
+    }
+    let (header_len, start) = match bytes[6] {
+        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10usize),
+        2 | 3 if bytes.len() >= 12 => (
+            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+            12,
+        ),
+        v => bail!(".npy version {v} is not supported"),
+    };
+    let header = bytes
+        .get(start..start.saturating_add(header_len))
+        .context(".npy header is truncated")?;
+    let header = std::str::from_utf8(header).context(".npy header is not text")?;
+    let field = |key: &str| -> Option<&str> {
+        let i = header.find(key)? + key.len();
+        let rest = header[i..].trim_start().strip_prefix(':')?.trim_start();
+        Some(rest)
+    };
+    let descr = field("'descr'").context(".npy header lacks 'descr'")?;
+    let (bytes_per, convert): (usize, fn(&[u8]) -> f32) = if descr.starts_with("'<f4'") {
+        (4, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    } else if descr.starts_with("'<f2'") {
+        (2, |b| half_to_f32(u16::from_le_bytes([b[0], b[1]])))
+    } else if descr.starts_with("'<u2'") {
+        (2, |b| u16::from_le_bytes([b[0], b[1]]) as f32)
+    } else {
+        bail!(
+            ".npy dtype {} is not supported (float32, float16 or uint16)",
+            descr.split(',').next().unwrap_or("")
+        );
+    };
+    if field("'fortran_order'").is_some_and(|f| f.starts_with("True")) {
+        bail!(".npy arrays in Fortran order are not supported");
+    }
+    let shape = field("'shape'").context(".npy header lacks 'shape'")?;
+    let inner = shape
+        .strip_prefix('(')
+        .and_then(|s| s.split(')').next())
+        .context(".npy shape is malformed")?;
+    let dims: Vec<u64> = inner
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse::<u64>())
+        .collect::<Result<_, _>>()
+        .context(".npy shape is malformed")?;
+    let [h, w] = dims[..] else {
+        bail!(".npy array has shape {dims:?}; a depth map is 2-D (height, width)");
+    };
+    if w == 0 || h == 0 || w > MAX_SIDE as u64 || h > MAX_SIDE as u64 {
+        bail!("depth map is {w}x{h}; each side must be in 1..={MAX_SIDE}");
+    }
+    let data = &bytes[start + header_len..];
+    let need = (w * h) as usize * bytes_per;
+    if data.len() < need {
+        bail!(".npy data is truncated ({} of {need} bytes)", data.len());
+    }
+    let values = data[..need].chunks_exact(bytes_per).map(convert).collect();
+    Ok((w as u32, h as u32, values))
+}
+
+/// IEEE half → f32 (subnormals, inf and NaN included).
+fn half_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = (h >> 10) & 0x1f;
+    let frac = (h & 0x3ff) as f32;
+    match exp {
+        0 => sign * frac * 2f32.powi(-24),
+        31 if frac == 0.0 => sign * f32::INFINITY,
+        31 => f32::NAN,
+        e => sign * (1.0 + frac / 1024.0) * 2f32.powi(e as i32 - 15),
+    }
+}
+
+/// `obscura render --depth FILE --intrinsics JSON`.
+pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
+    use obscura::{Ao, AoInput, DepthConvention, GpuContext};
+    let t0 = std::time::Instant::now();
+    let text = std::fs::read_to_string(intrinsics)
+        .with_context(|| format!("cannot read intrinsics `{}`", intrinsics.display()))?;
+    let k = Intrinsics::parse(&text)
+        .with_context(|| format!("intrinsics `{}`", intrinsics.display()))?;
+    let map = load(depth_path, k.depth_scale)
+        .with_context(|| format!("depth `{}`", depth_path.display()))?;
+    if (map.width, map.height) != (k.width, k.height) {
+        bail!(
+            "the depth map is {}x{} but the intrinsics say {}x{}",
+            map.width,
+            map.height,
+            k.width,
+            k.height
+        );
+    }
+    // Back-projected bounds of the valid depths: the default radius is 3% of their diagonal,
+    // the rule used for meshes.
+    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+    let mut valid = 0usize;
+    for (i, &d) in map.depth.iter().enumerate() {
+        if d > 0.0 {
+            let (u, v) = ((i as u32 % map.width) as f32, (i as u32 / map.width) as f32);
+            let p = glam::Vec3::new((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
+            lo = lo.min(p);
+            hi = hi.max(p);
+            valid += 1;
+        }
+    }
+    if valid == 0 {
+        bail!("the depth map has no valid depth (every value is 0, NaN or infinite)");
+    }
+    let radius = a.radius.unwrap_or(0.03 * (hi - lo).length());
+    let (pad, projection) = k.centred(0.5 * lo.z, 2.0 * hi.z);
+    let (pw, ph) = (map.width + pad[0] + pad[2], map.height + pad[1] + pad[3]);
+    let mut padded = vec![0.0f32; (pw * ph) as usize];
+    for y in 0..map.height {
+        let src = &map.depth[(y * map.width) as usize..((y + 1) * map.width) as usize];
+        let start = ((y + pad[1]) * pw + pad[0]) as usize;
+        padded[start..start + map.width as usize].copy_from_slice(src);
+    }
+    eprintln!(
+        "depth: {}x{} ({:.0}% valid), depth {:.3}..{:.3}, padded to {pw}x{ph} to centre the \
+         principal point; loaded in {:.0} ms",
+        map.width,
+        map.height,
+        100.0 * valid as f64 / map.depth.len() as f64,
+        lo.z,
+        hi.z,
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("depth map"),
+        size: wgpu::Extent3d {
+            width: pw,
+            height: ph,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    ctx.queue.write_texture(
+        tex.as_image_copy(),
+        &bytemuck_bytes(&padded),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * pw),
+            rows_per_image: Some(ph),
+        },
+        tex.size(),
+    );
+    let view = tex.create_view(&Default::default());
+    let options = crate::render::options(a);
+    let params = crate::render::params(a, radius);
+    let mut ao = Ao::new(&ctx.device, options)?;
+    let input = AoInput {
+        depth: &view,
+        convention: DepthConvention::LinearView,
+        projection,
+        normals: None,
+        viewport: None,
+    };
+    ao.validate(&input, &params)?;
+    let t = std::time::Instant::now();
+    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+    eprintln!(
+        "ao: {} ({} samples/pixel), radius {radius:.3}, in {:.0} ms (includes shader compilation)",
+        options.estimator.name(),
+        options.samples_per_pixel(),
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+    let px: Vec<u8> = (0..map.height)
+        .flat_map(|y| {
+            let row = ((y + pad[1]) * pw + pad[0]) as usize;
+            out[row..row + map.width as usize].to_vec()
+        })
+        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect();
+    crate::output::save_png(
+        &a.out,
+        &px,
+        map.width,
+        map.height,
+        image::ExtendedColorType::L8,
+    )?;
+    eprintln!("wrote {}", a.out.display());
+    eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn bytemuck_bytes(v: &[f32]) -> Vec<u8> {
+    v.iter().flat_map(|f| f.to_le_bytes()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64*: a dependency-free PRNG for the mutation fuzzing below.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n.max(1) as u64) as usize
+        }
+    }
+
+    /// Random edits of a valid input: byte flips, truncation, duplication, insertion.
+    fn mutate(rng: &mut Rng, valid: &[u8]) -> Vec<u8> {
+        let mut v = valid.to_vec();
+        for _ in 0..1 + rng.below(4) {
+            match rng.below(4) {
+                0 if !v.is_empty() => {
+                    let i = rng.below(v.len());
+                    v[i] ^= 1 << rng.below(8);
+                }
+                1 => v.truncate(rng.below(v.len() + 1)),
+                2 if !v.is_empty() => {
+                    let i = rng.below(v.len());
+                    let j = (i + rng.below(64)).min(v.len());
+                    let chunk = v[i..j].to_vec();
+                    v.splice(i..i, chunk);
+                }
+                _ => {
+                    let i = rng.below(v.len() + 1);
+                    v.insert(i, rng.next() as u8);
+                }
+            }
+        }
+        v
+    }
+
+    /// Mutation cases per loader: a few thousand in CI (well under a second each);
+    /// OBSCURA_FUZZ_CASES=1000000 for a long run by hand.
+    fn cases() -> usize {
+        std::env::var("OBSCURA_FUZZ_CASES")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(3000)
+    }
+
+    fn npy(w: u64, h: u64, values: &[f32]) -> Vec<u8> {
+        let header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({h}, {w}), }}");
+        let pad = 64 - (10 + header.len() + 1) % 64;
+        let header = format!("{header}{}\n", " ".repeat(pad));
+        let mut v = b"\x93NUMPY\x01\x00".to_vec();
+        v.extend((header.len() as u16).to_le_bytes());
+        v.extend(header.as_bytes());
+        v.extend(values.iter().flat_map(|f| f.to_le_bytes()));
+        v
+    }
+
+    #[test]
+    fn npy_png_and_exr_decode_known_values() {
+        let values = [1.5f32, 0.0, f32::NAN, 2.25, 1e3, -1.0];
+        let (w, h, got) = decode_npy(&npy(3, 2, &values)).unwrap();
+        assert_eq!((w, h), (3, 2));
+        assert_eq!(got[0], 1.5);
+        assert!(got[2].is_nan());
+        let png16 = {
+            let img = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(2, 1, vec![1234u16, 0])
+                .unwrap();
+            let mut out = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+            out.into_inner()
+        };
+        assert_eq!(
+            decode_image(&png16, "png").unwrap(),
+            (2, 1, vec![1234.0, 0.0])
+        );
+        let exr = {
+            let img =
+                image::Rgb32FImage::from_raw(2, 1, vec![0.75, 0.0, 0.0, 3.5, 0.0, 0.0]).unwrap();
+            let mut out = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut out, image::ImageFormat::OpenExr).unwrap();
+            out.into_inner()
+        };
+        assert_eq!(decode_image(&exr, "exr").unwrap(), (2, 1, vec![0.75, 3.5]));
+        // 8-bit images cannot hold depth: a typed refusal.
+        let png8 = {
+            let img = image::GrayImage::from_raw(1, 1, vec![9]).unwrap();
+            let mut out = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+            out.into_inner()
+        };
+        assert!(decode_image(&png8, "png").is_err());
+        assert_eq!(half_to_f32(0x3c00), 1.0);
+        assert_eq!(half_to_f32(0xc000), -2.0);
+        assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
+        assert!(half_to_f32(0x7e00).is_nan());
+    }
+
+    #[test]
+    fn intrinsics_parse_and_centre_the_principal_point() {
+        let k = Intrinsics::parse(
+            r#"{"fx": 500, "fy": 400, "cx": 99.5, "cy": 40, "width": 200, "height": 100}"#,
+        )
+        .unwrap();
+        assert_eq!(k.depth_scale, 0.001);
+        let ([l, t, r, b], p) = k.centred(0.1, 10.0);
+        // cx + 0.5 = 100 = width / 2: no horizontal padding; cy + 0.5 = 40.5 needs
+        // 100 - 2 * 40.5 = 19 rows on top.
+        assert_eq!((l, r, t, b), (0, 0, 19, 0));
+        match p {
+            obscura::Projection::Perspective { fov_y, aspect, .. } => {
+                assert!((fov_y - 2.0 * (119.0f32 / 800.0).atan()).abs() < 1e-6);
+                assert!((aspect - (200.0 / 1000.0) / (119.0 / 800.0)).abs() < 1e-5);
+            }
+            p => panic!("{p:?}"),
+        }
+        for bad in [
+            "",
+            "{}",
+            r#"{"fx": -1, "fy": 1, "cx": 0, "cy": 0, "width": 2, "height": 2}"#,
+            r#"{"fx": 1, "fy": 1, "cx": 50, "cy": 0, "width": 2, "height": 2}"#,
+            r#"{"fx": 1, "fy": 1, "cx": 0, "cy": 0, "width": 2.5, "height": 2}"#,
+            r#"{"fx": 1, "fy": 1, "cx": 0, "cy": 0, "width": 2, "height": 99999}"#,
+            r#"{"fx": 1, "fy": 1, "cx": 0, "cy": 0, "width": 2, "height": 2, "depth_scale": 0}"#,
+        ] {
+            assert!(Intrinsics::parse(bad).is_err(), "{bad} accepted");
+        }
+    }
+
+    /// Mutated files never panic a loader: each answer is a value or a typed error.
+    #[test]
+    fn fuzz_depth_and_intrinsics_loaders() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let valid_npy = npy(4, 3, &[1.0; 12]);
+        let valid_json = br#"{"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480, "depth_scale": 0.001}"#;
+        let valid_png = {
+            let img = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(4, 3, vec![700u16; 12])
+                .unwrap();
+            let mut out = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+            out.into_inner()
+        };
+        let (mut ok, mut err) = (0, 0);
+        for _ in 0..cases() {
+            let results = [
+                decode_npy(&mutate(&mut rng, &valid_npy)).is_ok(),
+                decode_image(&mutate(&mut rng, &valid_png), "png").is_ok(),
+                Intrinsics::parse(&String::from_utf8_lossy(&mutate(&mut rng, valid_json))).is_ok(),
+            ];
+            for r in results {
+                if r {
+                    ok += 1;
+                } else {
+                    err += 1;
+                }
+            }
+        }
+        // Both outcomes occur, so the mutations reach past the first check.
+        assert!(ok > 0 && err > 0, "{ok} accepted, {err} refused");
+    }
+}
