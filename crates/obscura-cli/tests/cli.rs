@@ -204,7 +204,7 @@ fn bench_writes_table_json_and_plot() {
     // 5 variants × 2 resolutions × 2 radii, the randomized pass being the unit of ratio.
     assert_eq!(j.matches("\"variant\"").count(), 20, "{j}");
     assert_eq!(j.matches("\"variant\": \"randomized\"").count(), 4);
-    assert!(j.matches("\"ratio_to_randomized\": 1.0000").count() >= 4);
+    assert!(j.matches("\"ratio_to_baseline\": 1.0000").count() >= 4);
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert_eq!(svg.matches("<polyline").count(), 10);
     std::fs::remove_dir_all(d).unwrap();
@@ -259,7 +259,11 @@ fn eval_writes_report_json_and_caches_the_reference() {
     assert!(out.status.success(), "{err}");
     assert!(err.contains("mean standard error"), "{err}");
     let md = std::fs::read_to_string(report.join("index.md")).unwrap();
-    for e in ["gtao", "hbao", "vo", "vao"] {
+    for e in ["gtao", "hbao", "vo", "vao", "sao"] {
+        assert!(
+            md.contains(&format!("| {e} screen-space reference |")),
+            "{md}"
+        );
         for m in ["randomized", "deinterleaved2", "deinterleaved4"] {
             assert!(md.contains(&format!("| {e} {m} |")), "{md}");
             let pic = image::open(report.join(format!("cornell-{e}-{m}-error.png"))).unwrap();
@@ -272,10 +276,12 @@ fn eval_writes_report_json_and_caches_the_reference() {
     }
     assert!(report.join("quality-vs-time.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
-    // White baseline + 4 estimators × 3 modes.
-    let records = j.matches("\"view\": \"cornell\", \"estimator\"").count();
-    assert_eq!(records, 13, "{j}");
-    assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 3, "{j}");
+    // White baseline + 5 screen-space references + 5 estimators × 3 modes.
+    let records = j.matches("\"view\": \"cornell\", \"variant\"").count();
+    assert_eq!(records, 21, "{j}");
+    assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 4, "{j}");
+    // Every estimate has its sampling error against its screen-space reference.
+    assert_eq!(j.matches("\"screen_rmse\": null").count(), 6, "{j}");
     // The second run finds the reference in the cache.
     let again = obscura(&args);
     assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));
@@ -302,4 +308,96 @@ fn eval_rejects_bad_input() {
         );
         assert!(err.contains(msg), "{args:?}: expected `{msg}` in {err}");
     }
+}
+
+/// The shared real depth maps render with their intrinsics (the Middlebury motorcycle:
+/// the motorcycle is darker in its creases than the open floor), and bad depth input
+/// fails cleanly.
+#[test]
+fn real_depth_maps_render_and_bad_ones_fail() {
+    let shared = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/depth");
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/intrinsics");
+    let d = scratch("depthmap");
+    let ao = d.join("ao.png");
+    let moto = format!("{shared}/middlebury2014_motorcycle/depth_mm.png");
+    let moto_k = format!("{data}/middlebury2014_motorcycle.json");
+    let out = obscura(&[
+        "render",
+        "--depth",
+        &moto,
+        "--intrinsics",
+        &moto_k,
+        "--out",
+        s(&ao),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let img = image::open(&ao).unwrap().to_luma8();
+    assert_eq!(img.dimensions(), (741, 500));
+    let dark = img.pixels().filter(|p| p[0] < 160).count();
+    assert!(
+        dark > 1000 && dark < 741 * 500 / 2,
+        "{dark} occluded pixels"
+    );
+    let redwood = format!("{shared}/redwood/redwood_depth_mm.png");
+    let out = obscura(&[
+        "render",
+        "--depth",
+        &redwood,
+        "--intrinsics",
+        &format!("{data}/redwood.json"),
+        "--resolution",
+        "half",
+        "--out",
+        s(&ao),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        image::open(&ao).unwrap().to_luma8().dimensions(),
+        (640, 480)
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+
+    let bad = scratch("depthmap-bad");
+    let json = bad.join("k.json");
+    std::fs::write(
+        &json,
+        r#"{"fx": 500, "fy": 500, "cx": 10, "cy": 10, "width": 20, "height": 20}"#,
+    )
+    .unwrap();
+    let npy = bad.join("d.npy");
+    std::fs::write(&npy, b"\x93NUMPY\x01\x00\x10\x00{'descr': '<f4'").unwrap();
+    let txt = bad.join("d.txt");
+    std::fs::write(&txt, b"1 2 3").unwrap();
+    let (json_s, npy_s, txt_s) = (
+        s(&json).to_string(),
+        s(&npy).to_string(),
+        s(&txt).to_string(),
+    );
+    assert_fails(
+        "depth-size",
+        &["render", "--depth", &moto, "--intrinsics", &json_s],
+        "intrinsics say",
+    );
+    assert_fails(
+        "depth-npy",
+        &["render", "--depth", &npy_s, "--intrinsics", &json_s],
+        "npy",
+    );
+    assert_fails(
+        "depth-ext",
+        &["render", "--depth", &txt_s, "--intrinsics", &json_s],
+        "unsupported",
+    );
+    assert_fails("depth-no-k", &["render", "--depth", &moto], "--intrinsics");
+    assert_fails(
+        "depth-bad-k",
+        &["render", "--depth", &moto, "--intrinsics", &npy_s],
+        "intrinsics",
+    );
+    std::fs::remove_dir_all(bad).unwrap();
 }

@@ -71,7 +71,7 @@ impl FrameUniforms {
         }
         let scale = projection.ndc_to_view_scale();
         let sin_bias = params.bias_angle_deg.to_radians().sin();
-        Ok(Self {
+        let u = Self {
             viewport_origin: [viewport.x, viewport.y],
             size: [viewport.width, viewport.height],
             inv_size: [1.0 / viewport.width as f32, 1.0 / viewport.height as f32],
@@ -110,7 +110,28 @@ impl FrameUniforms {
             } else {
                 fixed_table(options.directions)
             },
-        })
+        };
+        // Extreme but individually valid parameters (a half height of 1e-38, radius 1e30)
+        // can still overflow what the passes compute with (found by the property test).
+        let derived = [
+            u.inv_size[0],
+            u.inv_size[1],
+            u.ndc_to_view[0],
+            u.ndc_to_view[1],
+            u.lin_a,
+            u.lin_b,
+            u.inv_radius2,
+            u.radius_to_px,
+            u.ao_scale,
+        ];
+        if derived.iter().any(|v| !v.is_finite()) || u.inv_radius2 <= 0.0 {
+            return Err(crate::Error::InvalidProjection(format!(
+                "the projection and radius give non-finite screen-space scales \
+                 (ndc_to_view {:?}, radius_to_px {}, 1/radius² {}); use values nearer 1",
+                u.ndc_to_view, u.radius_to_px, u.inv_radius2
+            )));
+        }
+        Ok(u)
     }
 
     /// The same frame on a grid of `factor` × `factor` full-resolution pixels per pixel
@@ -196,12 +217,14 @@ mod tests {
             f32::MIN_POSITIVE,
             f32::MAX,
         ];
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
+        let state = std::cell::Cell::new(0x2545_f491_4f6c_dd1du64);
+        let next = || {
+            let mut x = state.get();
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            state.set(x);
+            x
         };
         let cases: usize = std::env::var("OBSCURA_FUZZ_CASES")
             .ok()
@@ -209,42 +232,52 @@ mod tests {
             .unwrap_or(20000);
         let (mut ok, mut refused) = (0, 0);
         for _ in 0..cases {
-            let mut f = || bag[(next() % bag.len() as u64) as usize];
+            // Start from valid values and replace each with an awkward one with
+            // probability 1/8, so both valid and invalid combinations occur.
+            let f = |valid: f32| {
+                let r = next();
+                if r % 8 == 0 {
+                    bag[((r >> 8) % bag.len() as u64) as usize]
+                } else {
+                    valid
+                }
+            };
+            let pick = |n: u64| (next() % n) as usize;
             let options = AoOptions {
-                estimator: Estimator::ALL[(f().to_bits() % 5) as usize],
-                directions: (f().abs().min(100.0)) as u32,
-                steps: (f().abs().min(100.0)) as u32,
-                mode: AoMode::ALL[(f().to_bits() % 3) as usize],
-                resolution: Resolution::ALL[(f().to_bits() % 3) as usize],
+                estimator: Estimator::ALL[pick(5)],
+                directions: f(4.0).abs().min(100.0) as u32,
+                steps: f(4.0).abs().min(100.0) as u32,
+                mode: AoMode::ALL[pick(3)],
+                resolution: Resolution::ALL[pick(3)],
                 ..Default::default()
             };
             let params = AoParams {
-                radius: f(),
-                bias_angle_deg: f(),
-                strength: f(),
-                max_radius_px: f(),
+                radius: f(1.0),
+                bias_angle_deg: f(10.0),
+                strength: f(1.0),
+                max_radius_px: f(256.0),
             };
-            let projection = if f() > 0.0 {
+            let projection = if pick(2) == 0 {
                 Projection::Perspective {
-                    fov_y: f(),
-                    aspect: f(),
-                    near: f(),
-                    far: f(),
+                    fov_y: f(1.0),
+                    aspect: f(1.5),
+                    near: f(0.1),
+                    far: f(100.0),
                 }
             } else {
                 Projection::Orthographic {
-                    half_width: f(),
-                    half_height: f(),
-                    near: f(),
-                    far: f(),
+                    half_width: f(4.0),
+                    half_height: f(3.0),
+                    near: f(0.1),
+                    far: f(100.0),
                 }
             };
-            let convention = DepthConvention::ALL[(f().to_bits() % 4) as usize];
+            let convention = DepthConvention::ALL[pick(4)];
             let viewport = Viewport {
                 x: 0,
                 y: 0,
-                width: (f().abs().min(1e5)) as u32,
-                height: (f().abs().min(1e5)) as u32,
+                width: f(640.0).abs().min(1e5) as u32,
+                height: f(400.0).abs().min(1e5) as u32,
             };
             match FrameUniforms::new(&projection, convention, None, viewport, &options, &params) {
                 Ok(u) => {
