@@ -97,11 +97,35 @@ fn io_err(path: &Path, source: std::io::Error) -> SceneError {
 
 fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    // The gltf crate asserts and panics on some malformed files (fuzz_mesh_loader found an
+    // accessor stride check); a panic anywhere in parsing or reading is a typed error.
+    std::panic::catch_unwind(|| gltf_mesh(path, &bytes)).unwrap_or_else(|_| {
+        Err(SceneError::Gltf {
+            path: path.display().to_string(),
+            reason: "the glTF parser failed on malformed input".into(),
+        })
+    })
+}
+
+fn gltf_mesh(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
     let err = |reason: String| SceneError::Gltf {
         path: path.display().to_string(),
         reason,
     };
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| err(e.to_string()))?;
+    // Checked first, so they fail without a panic message: two malformed inputs on which
+    // the gltf crate panics (found by fuzz_mesh_loader): a GLB header length below 12 (an
+    // unsigned underflow) and an out-of-range POSITION accessor (its validator indexes
+    // before checking).
+    if bytes.len() >= 12 && bytes.starts_with(b"glTF") {
+        let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        if length < 12 {
+            return Err(err(format!("GLB header length {length} is below 12")));
+        }
+    }
+    let unchecked =
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
+    check_accessor_indices(unchecked.document.as_json()).map_err(err)?;
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(e.to_string()))?;
     let buffers = gltf::import_buffers(&gltf.document, path.parent(), gltf.blob.clone())
         .map_err(|e| err(e.to_string()))?;
     let mut mesh = Mesh::default();
@@ -151,6 +175,20 @@ fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
         stack.extend(node.children().map(|c| (c, world, depth + 1)));
     }
     Ok(mesh)
+}
+
+/// Every accessor a mesh primitive names exists.
+fn check_accessor_indices(root: &gltf::json::Root) -> Result<(), String> {
+    let n = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for p in &mesh.primitives {
+            let named = p.attributes.values().chain(p.indices.as_ref());
+            if let Some(bad) = named.map(|i| i.value()).find(|&i| i >= n) {
+                return Err(format!("mesh {m} names accessor {bad} of {n}"));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
