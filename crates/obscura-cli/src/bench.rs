@@ -5,7 +5,7 @@
 //! first variant (the randomized single pass, or full resolution with `--compare resolutions`).
 
 use crate::output::{check_png_path, write_text};
-use crate::render::{NormalSource, QualityArgs, ResolutionArgs};
+use crate::render::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use obscura::{Ao, AoMode, AoOptions, AoParams, GpuContext, Resolution, Timing};
@@ -31,6 +31,9 @@ pub struct BenchArgs {
     pub compare: Compare,
     #[command(flatten)]
     pub resolution: ResolutionArgs,
+    /// With --compare resolutions: the pass layout every resolution runs in.
+    #[arg(long, value_enum, default_value_t = ModeArg::Deinterleaved2)]
+    pub mode: ModeArg,
     /// Resolutions as WxH, comma-separated.
     #[arg(long, default_value = "1280x720,1920x1080,3840x2160")]
     pub resolutions: String,
@@ -133,9 +136,10 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
-    let base = a
-        .resolution
-        .apply(a.quality.samples.options(a.quality.estimator.into()));
+    let base = a.resolution.apply(AoOptions {
+        mode: a.mode.into(),
+        ..a.quality.samples.options(a.quality.estimator.into())
+    });
     let variants = variants(base, a.compare);
     for (_, o) in &variants {
         o.validate()?;

@@ -64,9 +64,8 @@ impl Intrinsics {
             }
         }
         // The principal point must lie in the image (with a pixel of slack).
-        if !(i.cx.is_finite() && i.cx >= -1.0 && i.cx <= i.width as f32)
-            || !(i.cy.is_finite() && i.cy >= -1.0 && i.cy <= i.height as f32)
-        {
+        let inside = |c: f32, size: u32| c.is_finite() && c >= -1.0 && c <= size as f32;
+        if !(inside(i.cx, i.width) && inside(i.cy, i.height)) {
             bail!(
                 "intrinsics principal point ({}, {}) lies outside the {}x{} image",
                 i.cx,

@@ -539,7 +539,7 @@ fn recentred(f: &FrameUniforms, level: u32, t: [u32; 2], pick: u32, v: Vec4) -> 
         let q = f.view_position(centre, v.x);
         d = v.x + (n.x * (q.x - p.x) + n.y * (q.y - p.y)) / n.z;
     }
-    if !(d > 0.0) || (d - v.x).abs() > 0.1 * v.x {
+    if d.is_nan() || d <= 0.0 || (d - v.x).abs() > 0.1 * v.x {
         return v;
     }
     Vec4::new(d, v.y, v.z, v.w)

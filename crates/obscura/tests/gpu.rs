@@ -1446,7 +1446,7 @@ fn step_edge_does_not_bleed_and_does_not_move() {
 fn odd_sizes_keep_features_in_place() {
     let _g = lock();
     for (w, h) in [(97, 61), (1281, 721)] {
-        let (x0, x1, y0, y1) = (w / 3 | 1, 2 * w / 3 | 1, h / 3 | 1, 2 * h / 3 | 1);
+        let (x0, x1, y0, y1) = ((w / 3) | 1, (2 * w / 3) | 1, (h / 3) | 1, (2 * h / 3) | 1);
         let depth: Vec<f32> = (0..w * h)
             .map(|i| {
                 let (x, y) = (i % w, i / w);

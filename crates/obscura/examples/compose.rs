@@ -1,0 +1,277 @@
+//! A minimal wgpu app that draws a lit scene and darkens it with obscura's AO.
+//!
+//!     cargo run --release -p obscura --example compose -- [out.png]
+//!
+//! The app's own part (geometry, a Lambert render pass) is what any renderer already has.
+//! The integration is marked `// obscura:` — create once, record per frame, sample the
+//! output in your lighting (here a compute pass multiplies the lit colour by the AO).
+//! Headless: writes a PNG (default `compose.png`) instead of presenting to a window.
+
+use glam::Vec3;
+use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, Projection};
+
+const W: u32 = 960;
+const H: u32 = 540;
+
+/// Boxes on a floor as (position, normal) triangle vertices.
+fn scene() -> Vec<[f32; 6]> {
+    let mut v = Vec::new();
+    let mut quad = |c: Vec3, u: Vec3, w: Vec3| {
+        let n = u.cross(w).normalize();
+        for p in [
+            c - u - w,
+            c + u - w,
+            c + u + w,
+            c - u - w,
+            c + u + w,
+            c - u + w,
+        ] {
+            v.push([p.x, p.y, p.z, n.x, n.y, n.z]);
+        }
+    };
+    quad(Vec3::ZERO, Vec3::Z * 8.0, Vec3::X * 8.0);
+    for (x, z, s) in [(-1.5, 0.0, 1.0), (1.2, -0.8, 0.6), (0.2, 1.5, 0.4)] {
+        let c = Vec3::new(x, s, z);
+        for a in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+            let (b, d) = a.any_orthonormal_pair();
+            let (u, w) = if b.cross(d).dot(a) > 0.0 {
+                (b, d)
+            } else {
+                (d, b)
+            };
+            quad(c + a * s, u * s, w * s);
+        }
+    }
+    v
+}
+
+const SHADERS: &str = r#"
+@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;
+struct Out { @builtin(position) pos: vec4<f32>, @location(0) n: vec3<f32> }
+@vertex fn vs(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>) -> Out {
+    return Out(view_proj * vec4<f32>(p, 1.0), n);
+}
+@fragment fn fs(i: Out) -> @location(0) vec4<f32> {
+    let lit = 0.25 + 0.75 * max(dot(normalize(i.n), normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
+    return vec4<f32>(vec3<f32>(0.9, 0.8, 0.7) * lit, 1.0);
+}
+// Compose: lit colour x AO.
+@group(0) @binding(0) var color: texture_2d<f32>;
+@group(0) @binding(1) var ao: texture_2d<f32>;
+@group(0) @binding(2) var out: texture_storage_2d<rgba8unorm, write>;
+@compute @workgroup_size(8, 8) fn compose(@builtin(global_invocation_id) g: vec3<u32>) {
+    if any(g.xy >= textureDimensions(out)) { return; }
+    let c = textureLoad(color, g.xy, 0);
+    textureStore(out, g.xy, vec4<f32>(c.rgb * textureLoad(ao, g.xy, 0).x, 1.0));
+}
+"#;
+
+fn target(
+    ctx: &GpuContext,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: W,
+            height: H,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let out_path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "compose.png".into());
+    let ctx = GpuContext::new()?; // any wgpu device works; this one prefers a real GPU
+    let dev = &ctx.device;
+    use wgpu::util::DeviceExt;
+    use wgpu::TextureUsages as U;
+
+    // --- The app: camera, geometry, a depth + colour render pass. ---
+    let proj = glam::camera::rh::proj::directx::perspective(1.0, W as f32 / H as f32, 0.1, 50.0);
+    let view = glam::camera::rh::view::look_at_mat4(
+        Vec3::new(3.0, 3.0, 6.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::Y,
+    );
+    let verts = scene();
+    let vbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&verts),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&(proj * view).to_cols_array()),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: None,
+        source: wgpu::ShaderSource::Wgsl(SHADERS.into()),
+    });
+    let color = target(
+        &ctx,
+        wgpu::TextureFormat::Rgba8Unorm,
+        U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
+    );
+    // obscura reads the depth buffer: give it TEXTURE_BINDING usage.
+    let depth = target(
+        &ctx,
+        wgpu::TextureFormat::Depth32Float,
+        U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
+    );
+    let (color_view, depth_view) = (
+        color.create_view(&Default::default()),
+        depth.create_view(&Default::default()),
+    );
+    let draw = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: 24,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+            })],
+            compilation_options: Default::default(),
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            targets: &[Some(wgpu::TextureFormat::Rgba8Unorm.into())],
+            compilation_options: Default::default(),
+        }),
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    });
+    let draw_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &draw.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: ubuf.as_entire_binding(),
+        }],
+    });
+
+    // obscura: once, at start-up (pipelines compiled here), and the compose pass reading it.
+    let mut ao = Ao::new(dev, AoOptions::default())?;
+    let projection = Projection::from_matrix(proj.to_cols_array_2d(), DepthConvention::Standard)?;
+    let composed = target(
+        &ctx,
+        wgpu::TextureFormat::Rgba8Unorm,
+        U::STORAGE_BINDING | U::COPY_SRC,
+    );
+    let compose = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("compose"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+
+    // --- One frame. ---
+    ctx.run(|enc| {
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &color_view,
+                    resolve_target: None,
+                    depth_slice: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_pipeline(&draw);
+            pass.set_bind_group(0, &draw_bind, &[]);
+            pass.set_vertex_buffer(0, vbuf.slice(..));
+            pass.draw(0..verts.len() as u32, 0..1);
+        }
+        // obscura: per frame, record into the same encoder after the depth is written.
+        let input = AoInput {
+            depth: &depth_view,
+            convention: DepthConvention::Standard,
+            projection,
+            normals: None,
+            viewport: None,
+        };
+        ao.record(
+            dev,
+            &ctx.queue,
+            enc,
+            &input,
+            &AoParams {
+                radius: 0.6,
+                ..Default::default()
+            },
+        )?;
+        let ao_view = ao
+            .output_view()
+            .ok_or(obscura::Error::Gpu("no AO output".into()))?;
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &compose.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&color_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(ao_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(
+                        &composed.create_view(&Default::default()),
+                    ),
+                },
+            ],
+        });
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&compose);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(W.div_ceil(8), H.div_ceil(8), 1);
+        Ok(())
+    })?;
+
+    let pixels = ctx.read_texture(&composed)?;
+    image::save_buffer(&out_path, &pixels, W, H, image::ExtendedColorType::Rgba8)?;
+    eprintln!(
+        "wrote {out_path} ({}, AO {:?})",
+        ctx.describe(),
+        ao.options().estimator
+    );
+    Ok(())
+}
