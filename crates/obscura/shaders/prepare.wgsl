@@ -1,21 +1,10 @@
 // Prepare pass: raw depth -> linear view depth, plus a view-space normal (decoded from the
 // caller's normal texture, or reconstructed from depth), packed as vec4(d, n.xyz).
-// Sky / missing depth is stored as d = 0. Composed with a depth_input_*.wgsl (declares
-// @binding(1) and `load_raw_depth`) and a prepare_store_*.wgsl (declares @binding(3) and
-// `store_prepared`: full resolution, or straight into deinterleaved layers) and a
-// normals_*.wgsl (`view_normal`: reconstructed or given). Separate fragments rather than a
-// branch: an untaken uniform branch still cost lavapipe ~1/3 of this pass (BENCHMARKS.md).
-
-@group(0) @binding(0) var<uniform> frame: FrameUniforms;
-@group(0) @binding(2) var normals_in: texture_2d<f32>;
-
-// Linear depth of viewport-local pixel `p`; 0 outside the viewport.
-fn linear_depth_at(p: vec2<i32>) -> f32 {
-    if any(p < vec2<i32>(0)) || any(p >= vec2<i32>(frame.size)) {
-        return 0.0;
-    }
-    return linearize_depth(load_raw_depth(p + vec2<i32>(frame.viewport_origin)));
-}
+// Sky / missing depth is stored as d = 0. Composed with a depth_input_*.wgsl,
+// prepare_input.wgsl, a normals_*.wgsl (`view_normal`: reconstructed or given) and a
+// prepare_store_*.wgsl (declares @binding(3) and `store_prepared`: full resolution, or
+// straight into deinterleaved layers). Separate fragments rather than a branch: an untaken
+// uniform branch still cost lavapipe ~1/3 of this pass (BENCHMARKS.md).
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -1,4 +1,5 @@
-// Pyramid source: the full-resolution prepared buffer (level 0 of the pyramid).
+// Pyramid source: full-resolution linear depth, .x of the prepared buffer or the linear
+// depth of prepare_down.wgsl (level 0 of the pyramid).
 @group(0) @binding(1) var pyramid_in: texture_2d<f32>;
 
 fn source_size() -> vec2<i32> {

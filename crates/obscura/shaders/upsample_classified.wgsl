@@ -1,6 +1,6 @@
 // Classified upsampling (seed 004): the 2x2 footprint is a *surface* when
 //  - every low-resolution normal is within 25 degrees of their mean (the seed's normal test),
-//  - every texel lies within PLANE_TOLERANCE x depth of this pixel's tangent plane (catches
+//  - this pixel lies within PLANE_TOLERANCE x depth of every texel's tangent plane (catches
 //    parallel surfaces at different depths, whose normals agree), and
 //  - no texel's own footprint spans more than DEPTH_RANGE_TOLERANCE of its depth in the
 //    min/max depth pyramid (its one depth stands for an edge inside it);
@@ -10,12 +10,18 @@
 
 const COS_25_DEG: f32 = 0.9063078;
 
-fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
-    let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
+// Distance of this pixel's surface point `pos` (linear depth `d`) from the tangent plane of
+// footprint texel `i`, relative to `d`: small when the pixel lies on that texel's surface.
+fn plane_distance(fp: Footprint, i: u32, pos: vec3<f32>, d: f32) -> f32 {
+    return abs(dot(pos - fp.pos[i], fp.low[i].yzw)) / d;
+}
+
+fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
+    let d = centre.x;
     var mean = vec3<f32>(0.0);
     var surface = true;
-    // Pyramid level log2(up_factor) holds each low texel's footprint; its mip is one less.
-    let mip = firstTrailingBit(frame.up_factor) - 1u;
+    // Pyramid level log2(UP_FACTOR) holds each low texel's footprint; its mip is one less.
+    let mip = firstTrailingBit(UP_FACTOR) - 1u;
     let psize = max(vec2<i32>(textureDimensions(pyramid)) >> vec2<u32>(mip), vec2<i32>(1));
     for (var i = 0u; i < 4u; i++) {
         let low = fp.low[i];
@@ -24,7 +30,7 @@ fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
             continue;
         }
         mean += low.yzw;
-        if plane_distance(fp.pos[i], pos, centre.yzw, centre.x) > PLANE_TOLERANCE {
+        if plane_distance(fp, i, pos, d) > PLANE_TOLERANCE {
             surface = false;
         }
         let range = textureLoad(pyramid, min(fp.texel[i], psize - 1), mip).yz;
@@ -41,7 +47,7 @@ fn upsample(p: vec2<i32>, centre: vec4<f32>, fp: Footprint) -> f32 {
     if surface {
         return dot(fp.w, fp.ao);
     }
-    let i = nearest_depth(fp, centre.x);
+    let i = nearest_depth(fp, d);
     if i < 0 {
         return dot(fp.w, fp.ao);
     }

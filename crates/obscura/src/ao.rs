@@ -6,6 +6,9 @@
 //! randomized:           prepare ─▶ hbao (full resolution, 4×4 per-pixel patterns)
 //! deinterleaved, fused: prepare_split (writes N×N layers) ─▶ hbao_layers_merge (writes full res)
 //! deinterleaved:        prepare ─▶ deinterleave ─▶ hbao_layers ─▶ interleave
+//! half / quarter:       prepare_down (half-res vec4(d, n) + full-res linear depth)
+//!                       ─▶ [downsample to quarter] ─▶ AO at working resolution
+//!                       ─▶ [blur | box/tent] ─▶ upsample (full res)
 //! ```
 //!
 //! Estimators that read the depth pyramid (SAO) get its levels built between prepare and
@@ -13,7 +16,8 @@
 
 use crate::layout::layer_size;
 use crate::shader::{
-    dispatch_size, DepthBinding, Pass, PyramidSource, AO_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT,
+    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, LINEAR_DEPTH_FORMAT,
+    PREPARED_FORMAT, PYRAMID_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -45,6 +49,8 @@ pub struct AoInput<'a> {
 enum Res {
     /// `prepared`: full size, PREPARED_FORMAT.
     Prepared,
+    /// `linear depth`: full size, LINEAR_DEPTH_FORMAT (written by [`PrepareStore::Down`]).
+    LinearDepth,
     /// `prepared_layers`: work layer size × N² layers, PREPARED_FORMAT (deinterleaved).
     PreparedLayers,
     /// `prepared` downsampled k ≥ 1 times by the depth rule: `ceil(full / 2^k)`.
@@ -94,16 +100,44 @@ struct Step {
     grid: Grid,
 }
 
-/// The passes `options` run after prepare, in order, and the prepare pass's target.
-fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
+/// What the prepare pass stores, and the textures it writes, by binding.
+fn prepare_targets(store: PrepareStore) -> Vec<(u32, Res)> {
+    match store {
+        PrepareStore::Full => vec![(3, Res::Prepared)],
+        PrepareStore::Layers => vec![(3, Res::PreparedLayers)],
+        PrepareStore::Down { normals: true, .. } => vec![(3, Res::Level(1)), (4, Res::Prepared)],
+        PrepareStore::Down { normals: false, .. } => {
+            vec![(3, Res::Level(1)), (4, Res::LinearDepth)]
+        }
+    }
+}
+
+/// How the prepare pass stores for `options`, and the passes after it, in order.
+fn plan_steps(o: &AoOptions) -> (PrepareStore, Vec<Step>) {
     let n = o.mode.split();
     let work_level = o.resolution.factor().ilog2();
     let up_level = o.upsample_factor().ilog2();
     let direct = o.direct();
     let upsample = up_level > 0;
     let fused_prepare = direct && n > 1 && o.fused;
-    let prepare_target = if fused_prepare {
-        Res::PreparedLayers
+    // Below full resolution the prepare pass writes the first level itself, and at full
+    // resolution only what the upsampler and the pyramid read (linear depth, plus normals
+    // for the bilateral upsampler), unless unfused.
+    let fused_down = o.fused && work_level >= 1;
+    let normals = o.upsample == Upsampler::Bilateral;
+    let prepare_store = if fused_prepare {
+        PrepareStore::Layers
+    } else if fused_down {
+        PrepareStore::Down {
+            rule: o.downsample,
+            normals,
+        }
+    } else {
+        PrepareStore::Full
+    };
+    // The upsampler's and the pyramid's full-resolution input (they read `.x` as depth).
+    let full_depth = if fused_down && !normals {
+        Res::LinearDepth
     } else {
         Res::Prepared
     };
@@ -118,14 +152,14 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
     let mut steps = Vec::new();
     let classified = upsample && o.upsample == Upsampler::Classified;
     if o.estimator.uses_pyramid() || classified {
-        let source = if fused_prepare {
-            PyramidSource::Layers
+        let (source, from) = if fused_prepare {
+            (PyramidSource::Layers, Res::PreparedLayers)
         } else {
-            PyramidSource::Full
+            (PyramidSource::Full, full_depth)
         };
         steps.push(step(
             Pass::Pyramid { source },
-            vec![(1, prepare_target), (2, Res::PyramidMip(0))],
+            vec![(1, from), (2, Res::PyramidMip(0))],
             FrameAt::Full,
             Grid::PyramidBase,
         ));
@@ -134,7 +168,8 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
         };
         steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
     }
-    for k in 1..=work_level.max(up_level) {
+    let first_downsample = if fused_down { 2 } else { 1 };
+    for k in first_downsample..=work_level.max(up_level) {
         steps.push(step(
             Pass::Downsample {
                 rule: o.downsample,
@@ -232,7 +267,7 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
             Res::AoWork
         };
         let mut views = vec![
-            (1, Res::Prepared),
+            (1, full_depth),
             (2, from),
             (3, level(up_level)),
             (4, Res::Output),
@@ -240,16 +275,17 @@ fn plan_steps(o: &AoOptions) -> (Res, Vec<Step>) {
         if classified {
             views.push((5, Res::Pyramid));
         }
+        // One invocation per texel of the AO it reads (each writes its block of pixels).
         steps.push(step(
             Pass::Upsample {
                 upsampler: o.upsample,
             },
             views,
             FrameAt::Full,
-            Grid::Level(0),
+            Grid::Level(up_level),
         ));
     }
-    (prepare_target, steps)
+    (prepare_store, steps)
 }
 
 /// GPU objects an [`Ao`] has created since [`Ao::new`], by kind (see
@@ -334,7 +370,7 @@ pub struct Ao {
     /// The pipelines of the passes after prepare (each compiled once).
     later: Vec<Compiled>,
     /// What prepare writes, and the passes after it in execution order.
-    prepare_target: Res,
+    prepare_store: PrepareStore,
     steps: Vec<Step>,
     /// Frame uniforms at full and at working resolution (the same when full).
     uniforms: wgpu::Buffer,
@@ -398,18 +434,29 @@ const D2_ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array
 fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
     let rest = match pass {
-        Pass::Prepare { depth, layers, .. } => vec![
-            texture_entry(
-                1,
-                match depth {
-                    DepthBinding::Depth => wgpu::TextureSampleType::Depth,
-                    DepthBinding::Float => UNFILTERED,
-                },
-                D2,
-            ),
-            texture_entry(2, UNFILTERED, D2),
-            storage_entry(3, PREPARED_FORMAT, dim(layers)),
-        ],
+        Pass::Prepare { depth, store, .. } => {
+            let mut v = vec![
+                texture_entry(
+                    1,
+                    match depth {
+                        DepthBinding::Depth => wgpu::TextureSampleType::Depth,
+                        DepthBinding::Float => UNFILTERED,
+                    },
+                    D2,
+                ),
+                texture_entry(2, UNFILTERED, D2),
+                storage_entry(3, PREPARED_FORMAT, dim(store == PrepareStore::Layers)),
+            ];
+            if let PrepareStore::Down { normals, .. } = store {
+                let format = if normals {
+                    PREPARED_FORMAT
+                } else {
+                    LINEAR_DEPTH_FORMAT
+                };
+                v.push(storage_entry(4, format, D2));
+            }
+            v
+        }
         Pass::AoFull { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
@@ -580,14 +627,14 @@ impl Ao {
     pub fn new(device: &wgpu::Device, options: AoOptions) -> Result<Self> {
         options.validate()?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let (prepare_target, steps) = plan_steps(&options);
+        let (prepare_store, steps) = plan_steps(&options);
         let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
             [false, true].map(|reconstruct| {
                 compile(
                     device,
                     Pass::Prepare {
                         depth,
-                        layers: prepare_target == Res::PreparedLayers,
+                        store: prepare_store,
                         reconstruct,
                     },
                     &options,
@@ -635,7 +682,7 @@ impl Ao {
             options,
             prepare,
             later,
-            prepare_target,
+            prepare_store,
             steps,
             uniforms,
             work_uniforms,
@@ -742,7 +789,10 @@ impl Ao {
         let at = |f: u32| (size[0].div_ceil(f), size[1].div_ceil(f));
         let work = at(work_factor);
         let lsize = layer_size(work.0, work.1, n);
-        let mut used: Vec<Res> = vec![self.prepare_target];
+        let mut used: Vec<Res> = prepare_targets(self.prepare_store)
+            .into_iter()
+            .map(|t| t.1)
+            .collect();
         for st in &self.steps {
             for &(_, r) in &st.views {
                 let r = match r {
@@ -762,6 +812,7 @@ impl Ao {
             .map(|r| {
                 let (label, dims, layers, format) = match r {
                     Res::Prepared => ("obscura prepared", at(1), 1, PREPARED_FORMAT),
+                    Res::LinearDepth => ("obscura linear depth", at(1), 1, LINEAR_DEPTH_FORMAT),
                     Res::PreparedLayers => {
                         ("obscura prepared layers", lsize, n * n, PREPARED_FORMAT)
                     }
@@ -860,10 +911,10 @@ impl Ao {
             let bg = bind_group(device, c, buffer, &views);
             later.push((i, bg, grid(st.grid)));
         }
-        let prepare_dispatch = if self.prepare_target == Res::PreparedLayers {
-            grid(Grid::Layers)
-        } else {
-            grid(Grid::Level(0))
+        let prepare_dispatch = match self.prepare_store {
+            PrepareStore::Full => grid(Grid::Level(0)),
+            PrepareStore::Layers => grid(Grid::Layers),
+            PrepareStore::Down { .. } => grid(Grid::Level(1)),
         };
         self.created.textures += textures.len() as u32;
         self.created.texture_views += textures.len() as u32 + mip_views.get();
@@ -905,15 +956,14 @@ impl Ao {
             &b.depth == input.depth && b.normals.as_ref() == input.normals.map(|n| n.0)
         });
         if !cached {
-            let Some(target) = sized.view(self.prepare_target) else {
-                return Err(Error::Gpu("no prepare target".into()));
-            };
-            let bg = bind_group(
-                device,
-                prepare,
-                &self.uniforms,
-                &[(1, input.depth), (2, normals), (3, target)],
-            );
+            let mut views = vec![(1, input.depth), (2, normals)];
+            for (b, r) in prepare_targets(self.prepare_store) {
+                let Some(target) = sized.view(r) else {
+                    return Err(Error::Gpu("no prepare target".into()));
+                };
+                views.push((b, target));
+            }
+            let bg = bind_group(device, prepare, &self.uniforms, &views);
             self.created.bind_groups += 1;
             sized.prepare_binding = Some(PrepareBinding {
                 depth: input.depth.clone(),
@@ -1065,9 +1115,19 @@ impl Ao {
     }
 
     /// The full-resolution prepared `vec4(linear depth, view normal)` texture
-    /// (`Rgba32Float`) when the plan has one (not fused deinterleaved), for debugging/tests.
+    /// (`Rgba32Float`) when the plan has one (not in fused deinterleaved modes, nor below
+    /// full resolution unless unfused or upsampled bilaterally), for debugging/tests.
     pub fn prepared_view(&self) -> Option<&wgpu::TextureView> {
         self.sized.as_ref().and_then(|s| s.view(Res::Prepared))
+    }
+
+    /// Full-resolution linear view depth (`R32Float`, 0 = sky) when AO runs below full
+    /// resolution with the fused prepare ([`AoOptions::fused`]) and an upsampler that needs
+    /// no normals (else the prepared buffer holds it), for debugging/tests.
+    pub fn linear_depth(&self) -> Option<&wgpu::Texture> {
+        self.sized
+            .as_ref()
+            .and_then(|s| s.texture(Res::LinearDepth))
     }
 
     /// The depth pyramid (`Rgba32Float`, `vec4(select, min, max, 0)`, mip m = level m + 1)

@@ -569,7 +569,8 @@ fn most_representative(c: &[(u32, Vec4)]) -> (u32, Vec4) {
 }
 
 /// Upsampling of low-resolution AO (`low_size`, with its prepared buffer) to the full
-/// resolution of `f` (whose `up_factor` relates them); mirrors shaders/upsample*.wgsl.
+/// resolution of `f` (whose `up_factor` relates them), given the full-resolution `prepared`
+/// buffer (normals used by the bilateral upsampler only); mirrors shaders/upsample*.wgsl.
 /// `pyramid`: the full-resolution depth pyramid (classified upsampler).
 pub fn upsample(
     upsampler: crate::Upsampler,
@@ -588,12 +589,13 @@ pub fn upsample(
     for y in 0..h {
         for x in 0..w {
             let c = prepared[(y * w + x) as usize];
-            if c.x <= 0.0 {
+            let d = c.x;
+            if d <= 0.0 {
                 out.push(1.0);
                 continue;
             }
             let n = Vec3::new(c.y, c.z, c.w);
-            let pos = f.view_position(centre([x, y]), c.x);
+            let pos = f.view_position(centre([x, y]), d);
             let u = [(x as f32 + 0.5) / fac - 0.5, (y as f32 + 0.5) / fac - 0.5];
             let base = [u[0].floor() as i32, u[1].floor() as i32];
             let t = [u[0] - u[0].floor(), u[1] - u[1].floor()];
@@ -625,14 +627,15 @@ pub fn upsample(
                 let mut best: Option<usize> = None;
                 for i in 0..4 {
                     if low[i].x > 0.0
-                        && best.is_none_or(|b| (low[i].x - c.x).abs() < (low[b].x - c.x).abs())
+                        && best.is_none_or(|b| (low[i].x - d).abs() < (low[b].x - d).abs())
                     {
                         best = Some(i);
                     }
                 }
                 best.map_or(bilinear, |i| ao[i])
             };
-            let plane = |i: usize| (lpos[i] - pos).dot(n).abs() / c.x;
+            // This pixel's distance from texel i's tangent plane, relative to its depth.
+            let plane = |i: usize| (pos - lpos[i]).dot(ln(i)).abs() / d;
             out.push(match upsampler {
                 U::Bilinear => bilinear,
                 U::NearestDepth => nearest(),
@@ -678,7 +681,7 @@ pub fn upsample(
                         if low[i].x <= 0.0 {
                             continue;
                         }
-                        let z = plane(i) / PLANE_TOLERANCE;
+                        let z = (lpos[i] - pos).dot(n).abs() / (PLANE_TOLERANCE * d);
                         let cs = ln(i).dot(n).max(0.0);
                         let wgt = wts[i] * (-z * z).exp() * cs.powi(8);
                         sum += wgt * ao[i];

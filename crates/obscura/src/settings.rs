@@ -298,9 +298,12 @@ pub struct AoOptions {
     /// `Deinterleaved4` is faster still at large on-screen radii (2–2.9×) but loses
     /// detail when the radius spans few pixels.
     pub mode: AoMode,
-    /// Deinterleaved modes only: write the layers straight from the prepare pass and the AO
-    /// straight to full resolution (true, default), instead of separate split and merge
-    /// passes over full-resolution intermediates (false; kept to measure the difference).
+    /// Fuse the passes around the AO pass (true, default): in deinterleaved modes the
+    /// prepare pass writes the layers and the AO pass writes full resolution directly;
+    /// below full resolution the prepare pass writes the first downsampled level (and
+    /// full-resolution linear depth) itself. False: separate split, merge and downsample
+    /// passes over full-resolution intermediates, with identical results (kept to measure
+    /// the difference; tests compare the two).
     pub fused: bool,
     /// Per-pixel (or per-layer) rotation and offset of the samples (true, default). False:
     /// every pixel samples the same fixed pattern (rotation half a sector, offset ½) — the

@@ -13,6 +13,9 @@ pub const WORKGROUP_SIZE: u32 = 8;
 pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Storage format of the AO output: one channel, 1 = unoccluded, 0 = fully occluded.
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Storage format of the full-resolution linear depth written by the fused downsampling
+/// prepare pass ([`PrepareStore::Down`]).
+pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -28,12 +31,30 @@ pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
 /// Where the first pyramid level reads linear depth from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PyramidSource {
-    /// The full-resolution prepared buffer.
+    /// Full-resolution linear depth: `.x` of the prepared buffer, or the linear depth of
+    /// [`PrepareStore::Down`].
     Full,
     /// The deinterleaved prepared layers (fused deinterleaved modes have no full buffer).
     Layers,
     /// The previous pyramid level.
     Mip,
+}
+
+/// Where the prepare pass writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrepareStore {
+    /// The full-resolution prepared buffer.
+    Full,
+    /// Straight into the N×N deinterleaved layers (the split fused away).
+    Layers,
+    /// Half resolution by a depth rule, plus what the passes after the AO read at full
+    /// resolution: the first downsampling fused away (shaders/prepare_down.wgsl), for AO
+    /// below full resolution. `normals`: the full-resolution output is `vec4(depth,
+    /// normal)` (for the bilateral upsampler), else linear depth only.
+    Down {
+        rule: DepthDownsample,
+        normals: bool,
+    },
 }
 
 /// How the depth input is bound.
@@ -49,11 +70,11 @@ pub enum DepthBinding {
 /// entry file + the fragments it names); [`Pass::label`] is its pipeline name and debug label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
-    /// Linearize depth and build normals; `layers`: store straight into deinterleaved
-    /// layers; `reconstruct`: normals from depth (else from the caller's texture).
+    /// Linearize depth and build normals, stored as `store` says; `reconstruct`: normals
+    /// from depth (else from the caller's texture).
     Prepare {
         depth: DepthBinding,
-        layers: bool,
+        store: PrepareStore,
         reconstruct: bool,
     },
     /// The randomized single full-resolution AO pass.
@@ -81,12 +102,17 @@ impl Pass {
     /// Every pass variant, for validation tests.
     pub fn all() -> Vec<Pass> {
         let mut v = Vec::new();
+        let stores = [PrepareStore::Full, PrepareStore::Layers]
+            .into_iter()
+            .chain(DepthDownsample::ALL.into_iter().flat_map(|rule| {
+                [false, true].map(|normals| PrepareStore::Down { rule, normals })
+            }));
         for depth in [DepthBinding::Depth, DepthBinding::Float] {
-            for layers in [false, true] {
+            for store in stores.clone() {
                 for reconstruct in [false, true] {
                     v.push(Pass::Prepare {
                         depth,
-                        layers,
+                        store,
                         reconstruct,
                     });
                 }
@@ -117,26 +143,16 @@ impl Pass {
     /// The pass's label.
     pub fn label(self) -> &'static str {
         match self {
-            Pass::Prepare {
-                depth: DepthBinding::Depth,
-                layers: false,
-                ..
-            } => "prepare_depth",
-            Pass::Prepare {
-                depth: DepthBinding::Float,
-                layers: false,
-                ..
-            } => "prepare_float",
-            Pass::Prepare {
-                depth: DepthBinding::Depth,
-                layers: true,
-                ..
-            } => "prepare_depth_split",
-            Pass::Prepare {
-                depth: DepthBinding::Float,
-                layers: true,
-                ..
-            } => "prepare_float_split",
+            Pass::Prepare { depth, store, .. } => {
+                let depth = (depth == DepthBinding::Float) as usize;
+                match store {
+                    PrepareStore::Full => ["prepare_depth", "prepare_float"][depth],
+                    PrepareStore::Layers => ["prepare_depth_split", "prepare_float_split"][depth],
+                    PrepareStore::Down { .. } => {
+                        ["prepare_depth_down", "prepare_float_down"][depth]
+                    }
+                }
+            }
             Pass::AoFull { estimator } => ao_label(estimator, 0),
             Pass::AoLayered {
                 merge: true,
@@ -184,28 +200,43 @@ impl Pass {
         const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
         const STORE_AO_FULL: &str = include_str!("../shaders/ao_store_full.wgsl");
         const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
+        const PREPARE: &str = include_str!("../shaders/prepare.wgsl");
+        const DOWNSAMPLE_RULE: &str = include_str!("../shaders/downsample_rule.wgsl");
         match self {
             Pass::Prepare {
                 depth,
-                layers,
+                store,
                 reconstruct,
-            } => vec![
-                match depth {
-                    DepthBinding::Depth => include_str!("../shaders/depth_input_depth.wgsl"),
-                    DepthBinding::Float => include_str!("../shaders/depth_input_float.wgsl"),
-                },
-                if reconstruct {
-                    include_str!("../shaders/normals_reconstruct.wgsl")
-                } else {
-                    include_str!("../shaders/normals_given.wgsl")
-                },
-                if layers {
-                    STORE_PREPARED_LAYERS
-                } else {
-                    STORE_PREPARED_FULL
-                },
-                include_str!("../shaders/prepare.wgsl"),
-            ],
+            } => {
+                let mut v = vec![
+                    match depth {
+                        DepthBinding::Depth => include_str!("../shaders/depth_input_depth.wgsl"),
+                        DepthBinding::Float => include_str!("../shaders/depth_input_float.wgsl"),
+                    },
+                    include_str!("../shaders/prepare_input.wgsl"),
+                    if reconstruct {
+                        include_str!("../shaders/normals_reconstruct.wgsl")
+                    } else {
+                        include_str!("../shaders/normals_given.wgsl")
+                    },
+                ];
+                v.extend(match store {
+                    PrepareStore::Full => [STORE_PREPARED_FULL, PREPARE],
+                    PrepareStore::Layers => [STORE_PREPARED_LAYERS, PREPARE],
+                    PrepareStore::Down { normals, .. } => [
+                        DOWNSAMPLE_RULE,
+                        if normals {
+                            include_str!("../shaders/prepare_down_prepared.wgsl")
+                        } else {
+                            include_str!("../shaders/prepare_down_depth.wgsl")
+                        },
+                    ],
+                });
+                if matches!(store, PrepareStore::Down { .. }) {
+                    v.push(include_str!("../shaders/prepare_down.wgsl"));
+                }
+                v
+            }
             Pass::AoFull { estimator } => vec![
                 estimator_source(estimator),
                 STORE_AO_FULL,
@@ -233,7 +264,9 @@ impl Pass {
                 },
                 include_str!("../shaders/pyramid.wgsl"),
             ],
-            Pass::Downsample { .. } => vec![include_str!("../shaders/downsample.wgsl")],
+            Pass::Downsample { .. } => {
+                vec![DOWNSAMPLE_RULE, include_str!("../shaders/downsample.wgsl")]
+            }
             Pass::Upsample { upsampler } => vec![
                 include_str!("../shaders/upsample.wgsl"),
                 match upsampler {
@@ -273,16 +306,8 @@ impl Pass {
             Estimator::Vao => vec![("SPHERE_OFFSET", 0.5)],
             _ => vec![],
         };
-        match self {
-            Pass::Prepare { layers: false, .. } => vec![],
-            Pass::Prepare { layers: true, .. }
-            | Pass::Deinterleave
-            | Pass::Interleave
-            | Pass::Pyramid {
-                source: PyramidSource::Layers,
-            } => vec![split],
-            Pass::Pyramid { .. } | Pass::Upsample { .. } => vec![],
-            Pass::Downsample { rule, level } => vec![
+        let rule = |rule: DepthDownsample, level: u32| {
+            vec![
                 (
                     "RULE",
                     match rule {
@@ -294,7 +319,29 @@ impl Pass {
                 ),
                 ("LEVEL", level as f64),
                 ("RECENTRE", options.recentre as u32 as f64),
-            ],
+            ]
+        };
+        match self {
+            Pass::Prepare {
+                store: PrepareStore::Full,
+                ..
+            } => vec![],
+            Pass::Prepare {
+                store: PrepareStore::Down { rule: r, .. },
+                ..
+            } => rule(r, 1),
+            Pass::Prepare {
+                store: PrepareStore::Layers,
+                ..
+            }
+            | Pass::Deinterleave
+            | Pass::Interleave
+            | Pass::Pyramid {
+                source: PyramidSource::Layers,
+            } => vec![split],
+            Pass::Pyramid { .. } => vec![],
+            Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
+            Pass::Downsample { rule: r, level } => rule(r, level),
             Pass::Blur { vertical } => vec![("VERTICAL", vertical as u32 as f64)],
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),

@@ -84,6 +84,9 @@ struct Run {
     levels: Vec<Vec<Vec4>>,
     /// The AO at working resolution before upsampling (when there is one).
     work_ao: Vec<f32>,
+    /// Full-resolution linear depth written by the fused downsampling prepare (below full
+    /// resolution), else empty.
+    linear_depth: Vec<f32>,
     ao: Vec<f32>,
     frame: obscura::uniforms::FrameUniforms,
 }
@@ -138,11 +141,15 @@ fn run_ao(
     let work_ao = ao
         .working_ao()
         .map_or(Vec::new(), |t| c.read_f32(t).unwrap());
+    let linear_depth = ao
+        .linear_depth()
+        .map_or(Vec::new(), |t| c.read_f32(t).unwrap());
     Run {
         prepared: vec4s(prepared),
         pyramid,
         levels,
         work_ao,
+        linear_depth,
         ao: c.read_f32(ao.output().unwrap()).unwrap(),
         frame,
     }
@@ -1184,19 +1191,32 @@ fn downsample_rules_on_hand_made_blocks() {
             downsample: rule,
             recentre: false,
             mode: AoMode::Randomized,
+            fused: false,
             ..Default::default()
         };
-        let r = run_ao(
-            &depth,
-            w,
-            h,
-            ortho(w, h),
-            DepthConvention::LinearView,
-            None,
-            options,
-            &AoParams::default(),
-        );
+        let run = |options| {
+            run_ao(
+                &depth,
+                w,
+                h,
+                ortho(w, h),
+                DepthConvention::LinearView,
+                None,
+                options,
+                &AoParams::default(),
+            )
+        };
+        // Unfused: a full-resolution prepared buffer to look the picks up in.
+        let r = run(options);
         let low = &r.levels[0];
+        let fused = run(AoOptions {
+            fused: true,
+            ..options
+        });
+        assert_eq!(
+            &fused.levels[0], low,
+            "{rule:?}: fused prepare + downsample"
+        );
         assert_eq!(low.len(), 4, "{rule:?}: 8x2 halves to 4x1");
         for (t, d) in want.iter().enumerate() {
             assert_eq!(low[t].x, *d, "{rule:?}: block {t}");
@@ -1230,19 +1250,38 @@ fn mixed_resolution_matches_cpu_reference() {
                     downsample: rule,
                     upsample: upsampler,
                     mode: AoMode::Randomized,
+                    fused: false,
                     ..Default::default()
                 };
                 let what = format!("{resolution:?} {rule:?} {upsampler:?}");
-                let r = run_ao(
-                    &raw,
-                    W,
-                    H,
-                    p,
-                    DepthConvention::LinearView,
-                    None,
-                    options,
-                    &params,
-                );
+                let run = |options| {
+                    run_ao(
+                        &raw,
+                        W,
+                        H,
+                        p,
+                        DepthConvention::LinearView,
+                        None,
+                        options,
+                        &params,
+                    )
+                };
+                // Unfused, for the full-resolution prepared buffer the CPU starts from.
+                let r = run(options);
+                // Fused: the prepare pass writes level 1 and linear depth itself; the
+                // result is the unfused one bit for bit.
+                let fused = run(AoOptions {
+                    fused: true,
+                    ..options
+                });
+                if upsampler == Upsampler::Bilateral {
+                    assert_eq!(fused.prepared, r.prepared, "{what}: fused full resolution");
+                } else {
+                    let depth: Vec<f32> = r.prepared.iter().map(|v| v.x).collect();
+                    assert_eq!(fused.linear_depth, depth, "{what}: fused linear depth");
+                }
+                assert_eq!(fused.levels, r.levels, "{what}: fused levels");
+                assert_eq!(fused.ao, r.ao, "{what}: fused AO");
                 let mut size = [W, H];
                 let mut level = r.prepared.clone();
                 for (k, gpu) in r.levels.iter().enumerate() {

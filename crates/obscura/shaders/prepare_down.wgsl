@@ -1,0 +1,46 @@
+// Prepare fused with the first depth downsampling, for AO below full resolution: one
+// invocation per half-resolution texel t linearizes its 2x2 full-resolution children,
+// stores what the passes after the AO read at full resolution (`store_child`, from a
+// prepare_down_*.wgsl: linear depth only, or vec4(depth, normal) for the bilateral
+// upsampler), picks one child by RULE (downsample_rule.wgsl) and stores it with its normal
+// as texel t. The full-resolution pass and the downsample's read-back of its output
+// disappear; texel t equals what prepare.wgsl + downsample.wgsl give (a test checks it bit
+// for bit). Composed like prepare.wgsl with a depth_input_*.wgsl, prepare_input.wgsl and a
+// normals_*.wgsl.
+
+@group(0) @binding(3) var level_out: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(WG_SIZE, WG_SIZE)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let t = vec2<i32>(gid.xy);
+    if any(t >= vec2<i32>(textureDimensions(level_out))) {
+        return;
+    }
+    let size = vec2<i32>(frame.size);
+    var v: array<vec4<f32>, 4>;
+    var depth: array<f32, 4>;
+    var alive: array<bool, 4>;
+    var count = 0u;
+    for (var i = 0u; i < 4u; i++) {
+        let c = 2 * t + child_offset(i);
+        depth[i] = 0.0;
+        if all(c < size) {
+            depth[i] = linear_depth_at(c);
+            v[i] = store_child(c, depth[i]);
+        }
+        alive[i] = depth[i] > 0.0;
+        count += u32(alive[i]);
+    }
+    if count == 0u {
+        textureStore(level_out, t, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    let pick = pick_child(t, depth, alive, count);
+    var picked = v[pick];
+    if !CHILD_NORMALS {
+        let p = 2 * t + child_offset(pick);
+        let d = depth[pick];
+        picked = vec4<f32>(d, view_normal(p, view_position(vec2<f32>(p) + 0.5, d), d));
+    }
+    textureStore(level_out, t, recentred(t, pick, picked));
+}

@@ -1,0 +1,13 @@
+// prepare_down.wgsl's full-resolution output: vec4(depth, normal) of every child, as
+// prepare.wgsl writes it (the bilateral upsampler weighs by normal agreement).
+const CHILD_NORMALS: bool = true;
+@group(0) @binding(4) var full_out: texture_storage_2d<rgba32float, write>;
+
+fn store_child(c: vec2<i32>, d: f32) -> vec4<f32> {
+    var v = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    if d > 0.0 {
+        v = vec4<f32>(d, view_normal(c, view_position(vec2<f32>(c) + 0.5, d), d));
+    }
+    textureStore(full_out, c, v);
+    return v;
+}
