@@ -349,6 +349,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         projection,
         normals: None,
         viewport: None,
+        output: None,
     };
     ao.validate(&input, &params)?;
     let t = std::time::Instant::now();

@@ -40,6 +40,7 @@ impl GBuffer {
             normals: with_normals
                 .then_some((&self.normals_view, obscura::NormalEncoding::ViewSigned)),
             viewport: None,
+            output: None,
         }
     }
 }

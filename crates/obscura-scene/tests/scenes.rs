@@ -60,6 +60,7 @@ fn render_with(
         projection: cam.obscura_projection(w as f32 / h as f32),
         normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
         viewport: None,
+        output: None,
     };
     let params = AoParams {
         radius,

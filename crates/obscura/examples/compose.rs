@@ -225,6 +225,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             projection,
             normals: None,
             viewport: None,
+            output: None,
         };
         ao.record(
             dev,

@@ -10,12 +10,13 @@ fn is_nonfinite(x: f32) -> bool {
 }
 
 // Linear view depth of a raw depth value, or 0.0 for sky / missing depth (never a near
-// occluder). See src/input.rs, `Linearize::apply`.
+// occluder): the far plane, and raw values outside [0, 1] (in front of the near plane).
+// See src/input.rs, `Linearize::apply`.
 fn linearize_depth(z: f32) -> f32 {
     if is_nonfinite(z) {
         return 0.0;
     }
-    if (frame.sky_test == 0u && z >= 1.0) || (frame.sky_test == 1u && z <= 0.0) {
+    if (frame.sky_test == 0u && (z >= 1.0 || z < 0.0)) || (frame.sky_test == 1u && (z <= 0.0 || z > 1.0)) {
         return 0.0;
     }
     var d = frame.lin_a * z + frame.lin_b;

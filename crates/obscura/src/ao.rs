@@ -41,6 +41,10 @@ pub struct AoInput<'a> {
     pub normals: Option<(&'a wgpu::TextureView, NormalEncoding)>,
     /// The region to process; `None` means the whole depth texture.
     pub viewport: Option<Viewport>,
+    /// Where to write the AO: a view of a whole `R32Float` 2D texture (one mip, one layer)
+    /// of the viewport's size with `STORAGE_BINDING` usage; 1 = unoccluded. `None`: a
+    /// texture the library owns ([`Ao::output`]).
+    pub output: Option<&'a wgpu::TextureView>,
 }
 
 /// A texture the passes read or write. Sizes: `full` = the viewport, `work` = the AO's
@@ -315,18 +319,31 @@ struct SizedResources {
     /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
     prepare_dispatch: [u32; 3],
     /// Bind groups of every pass after prepare, in order: (compiled index, bind group,
-    /// workgroups).
-    later: Vec<(usize, wgpu::BindGroup, [u32; 3])>,
+    /// workgroups). The pass that writes the output has none here (see `output_binding`).
+    later: Vec<(usize, Option<wgpu::BindGroup>, [u32; 3])>,
+    /// The pass writing the output: (index in `later`, index in the plan's steps).
+    output_step: (usize, usize),
     /// The prepare bind group of the last frame's input views.
     prepare_binding: Option<PrepareBinding>,
+    /// The output pass's bind group and the output view it binds (the caller's, or
+    /// `own_output`'s), kept while the caller passes the same view.
+    output_binding: Option<(wgpu::TextureView, wgpu::BindGroup)>,
+    /// The library's own output, created on the first frame without a caller output.
+    own_output: Option<(wgpu::Texture, wgpu::TextureView)>,
 }
 
 impl SizedResources {
     fn view(&self, r: Res) -> Option<&wgpu::TextureView> {
+        if r == Res::Output {
+            return self.own_output.as_ref().map(|o| &o.1);
+        }
         self.textures.iter().find(|t| t.0 == r).map(|t| &t.2)
     }
 
     fn texture(&self, r: Res) -> Option<&wgpu::Texture> {
+        if r == Res::Output {
+            return self.own_output.as_ref().map(|o| &o.0);
+        }
         self.textures.iter().find(|t| t.0 == r).map(|t| &t.1)
     }
 }
@@ -715,9 +732,10 @@ impl Ao {
             });
         }
         if !tex.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
-            return Err(Error::InvalidViewport(
-                "the depth texture lacks TEXTURE_BINDING usage".into(),
-            ));
+            return Err(Error::InvalidTexture {
+                what: "depth",
+                reason: "it lacks TEXTURE_BINDING usage".into(),
+            });
         }
         let viewport = input
             .viewport
@@ -760,13 +778,59 @@ impl Ao {
                 });
             }
             if nt.width() != tex.width() || nt.height() != tex.height() {
-                return Err(Error::InvalidViewport(format!(
-                    "normals are {}x{} but depth is {}x{}",
-                    nt.width(),
-                    nt.height(),
-                    tex.width(),
-                    tex.height()
-                )));
+                return Err(Error::InvalidTexture {
+                    what: "normal",
+                    reason: format!(
+                        "it is {}x{} but the depth texture is {}x{}",
+                        nt.width(),
+                        nt.height(),
+                        tex.width(),
+                        tex.height()
+                    ),
+                });
+            }
+            if !nt.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+                return Err(Error::InvalidTexture {
+                    what: "normal",
+                    reason: "it lacks TEXTURE_BINDING usage".into(),
+                });
+            }
+        }
+        if let Some(out) = input.output {
+            let t = out.texture();
+            if t.format() != AO_FORMAT {
+                return Err(Error::UnsupportedFormat {
+                    what: "output",
+                    format: t.format(),
+                    expected: "R32Float",
+                });
+            }
+            let bad = |reason: String| {
+                Err(Error::InvalidTexture {
+                    what: "output",
+                    reason,
+                })
+            };
+            if !t.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+                return bad("it lacks STORAGE_BINDING usage".into());
+            }
+            if t.dimension() != wgpu::TextureDimension::D2
+                || t.depth_or_array_layers() != 1
+                || t.mip_level_count() != 1
+                || t.sample_count() != 1
+            {
+                return bad(
+                    "it must be a single-sampled 2D texture with one mip and one layer".into(),
+                );
+            }
+            if (t.width(), t.height()) != (viewport.width, viewport.height) {
+                return bad(format!(
+                    "it is {}x{} but the viewport is {}x{}",
+                    t.width(),
+                    t.height(),
+                    viewport.width,
+                    viewport.height
+                ));
             }
         }
         FrameUniforms::new(
@@ -804,9 +868,8 @@ impl Ao {
                 }
             }
         }
-        if !used.contains(&Res::Output) {
-            used.push(Res::Output);
-        }
+        // The output is the caller's or created on demand (see `Ao::plan`).
+        used.retain(|&r| r != Res::Output);
         let textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)> = used
             .into_iter()
             .map(|r| {
@@ -827,7 +890,7 @@ impl Ao {
                     Res::AoTmp => ("obscura ao blur", work, 1, AO_FORMAT),
                     Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
                     Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
-                    Res::Output => ("obscura ao", at(1), 1, AO_FORMAT),
+                    Res::Output => unreachable!("the output is created on demand"),
                 };
                 let mips = if r == Res::Pyramid {
                     dims.0.max(dims.1).ilog2() + 1
@@ -870,7 +933,8 @@ impl Ao {
             Grid::PyramidBase | Grid::PyramidMips => workgroups(pyramid_base.0, pyramid_base.1, 1),
         };
         let mut later = Vec::new();
-        for st in &self.steps {
+        let mut output_step = (0, 0);
+        for (si, st) in self.steps.iter().enumerate() {
             let i = self
                 .later
                 .iter()
@@ -886,9 +950,14 @@ impl Ao {
                     if let (Some(from), Some(to)) = (mip_view(m - 1), mip_view(m)) {
                         let bg = bind_group(device, c, buffer, &[(1, &from), (2, &to)]);
                         let d = (1.max(pyramid_base.0 >> m), 1.max(pyramid_base.1 >> m));
-                        later.push((i, bg, workgroups(d.0, d.1, 1)));
+                        later.push((i, Some(bg), workgroups(d.0, d.1, 1)));
                     }
                 }
+                continue;
+            }
+            if st.views.iter().any(|v| v.1 == Res::Output) {
+                output_step = (later.len(), si);
+                later.push((i, None, grid(st.grid)));
                 continue;
             }
             let mips: Vec<(u32, wgpu::TextureView)> = st
@@ -909,7 +978,7 @@ impl Ao {
                 .chain(mips.iter().map(|(b, v)| (*b, v)))
                 .collect();
             let bg = bind_group(device, c, buffer, &views);
-            later.push((i, bg, grid(st.grid)));
+            later.push((i, Some(bg), grid(st.grid)));
         }
         let prepare_dispatch = match self.prepare_store {
             PrepareStore::Full => grid(Grid::Level(0)),
@@ -918,13 +987,16 @@ impl Ao {
         };
         self.created.textures += textures.len() as u32;
         self.created.texture_views += textures.len() as u32 + mip_views.get();
-        self.created.bind_groups += later.len() as u32;
+        self.created.bind_groups += later.iter().filter(|l| l.1.is_some()).count() as u32;
         self.sized = Some(SizedResources {
             size,
             textures,
             prepare_dispatch,
             later,
+            output_step,
             prepare_binding: None,
+            output_binding: None,
+            own_output: None,
         });
     }
 
@@ -975,9 +1047,55 @@ impl Ao {
         else {
             return Err(Error::Gpu("prepare bind group missing".into()));
         };
+        // The output: the caller's view, or the library's own texture.
+        if input.output.is_none() && sized.own_output.is_none() {
+            let t = make_texture(
+                device,
+                "obscura ao",
+                (frame.size[0], frame.size[1]),
+                1,
+                1,
+                AO_FORMAT,
+            );
+            let v = t.create_view(&Default::default());
+            self.created.textures += 1;
+            self.created.texture_views += 1;
+            sized.own_output = Some((t, v));
+        }
+        let out_view = match (input.output, &sized.own_output) {
+            (Some(v), _) | (None, Some((_, v))) => v.clone(),
+            (None, None) => return Err(Error::Gpu("output texture missing".into())),
+        };
+        if sized.output_binding.as_ref().map(|b| &b.0) != Some(&out_view) {
+            let (_, si) = sized.output_step;
+            let st = &self.steps[si];
+            let c = &self.later[sized.later[sized.output_step.0].0];
+            let mut views = Vec::with_capacity(st.views.len());
+            for &(b, r) in &st.views {
+                let v = if r == Res::Output {
+                    &out_view
+                } else {
+                    sized
+                        .view(r)
+                        .ok_or_else(|| Error::Gpu(format!("texture {r:?} missing")))?
+                };
+                views.push((b, v));
+            }
+            let buffer = match st.frame {
+                FrameAt::Full => &self.uniforms,
+                FrameAt::Work => &self.work_uniforms,
+            };
+            let bg = bind_group(device, c, buffer, &views);
+            self.created.bind_groups += 1;
+            sized.output_binding = Some((out_view, bg));
+        }
+        let Some((_, output_bind)) = sized.output_binding.as_ref() else {
+            return Err(Error::Gpu("output bind group missing".into()));
+        };
         let mut passes = vec![(prepare, prepare_bind, sized.prepare_dispatch)];
         for (i, bg, d) in &sized.later {
-            passes.push((&self.later[*i], bg.clone(), *d));
+            let bg = bg.as_ref().unwrap_or(output_bind).clone();
+            passes.push((&self.later[*i], bg, *d));
         }
         Ok(passes)
     }
@@ -1104,7 +1222,8 @@ impl Ao {
         self.created
     }
 
-    /// The AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a frame was recorded.
+    /// The library's own AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a
+    /// frame was recorded without a caller-provided [`AoInput::output`].
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Output))
     }

@@ -33,6 +33,9 @@ pub enum Error {
     /// A requested size is beyond what the adapter supports.
     #[error("size {width}x{height} exceeds the adapter's maximum texture dimension {max}")]
     TooLarge { width: u32, height: u32, max: u32 },
+    /// A caller's texture has the wrong size, usage, sample count or dimensions.
+    #[error("invalid {what} texture: {reason}")]
+    InvalidTexture { what: &'static str, reason: String },
     /// An input texture has a format the library cannot read.
     #[error("unsupported {what} texture format {format:?}; expected {expected}")]
     UnsupportedFormat {

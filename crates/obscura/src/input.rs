@@ -78,14 +78,56 @@ impl Viewport {
     }
 }
 
-/// How an optional caller-provided normal texture encodes view-space normals.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How an optional caller-provided normal texture encodes normals. Normals need not be
+/// unit length (they are normalized after decoding); zero or non-finite ones fall back to
+/// view-space +z (towards the camera).
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum NormalEncoding {
     /// A float texture (e.g. `Rgba16Float`) with view-space xyz in [−1, 1].
     ViewSigned,
     /// A unorm texture (e.g. `Rgba8Unorm`) with view-space `xyz * 0.5 + 0.5`.
     ViewUnorm,
+    /// A float texture with world-space xyz in [−1, 1]. `view_from_world` rotates world
+    /// directions into view space: the upper-left 3×3 of the view matrix, column-major
+    /// (`m[column][row]`, glam's `Mat3::to_cols_array_2d` of `Mat3::from_mat4(view)`).
+    WorldSigned { view_from_world: [[f32; 3]; 3] },
+    /// A unorm texture with world-space `xyz * 0.5 + 0.5`, rotated as for `WorldSigned`.
+    WorldUnorm { view_from_world: [[f32; 3]; 3] },
+}
+
+/// The 3×3 identity, as columns.
+pub(crate) const IDENTITY3: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+impl NormalEncoding {
+    /// Whether texel values are `xyz * 0.5 + 0.5`.
+    pub fn is_unorm(self) -> bool {
+        matches!(
+            self,
+            NormalEncoding::ViewUnorm | NormalEncoding::WorldUnorm { .. }
+        )
+    }
+
+    /// The rotation from the texture's space into view space, as three columns (identity
+    /// for view-space normals). A typed error when the matrix is not finite, degenerate or
+    /// mirrored (determinant ≤ 0.01): normals would point the wrong way.
+    pub fn to_view(self) -> Result<[[f32; 3]; 3]> {
+        let m = match self {
+            NormalEncoding::ViewSigned | NormalEncoding::ViewUnorm => return Ok(IDENTITY3),
+            NormalEncoding::WorldSigned { view_from_world }
+            | NormalEncoding::WorldUnorm { view_from_world } => view_from_world,
+        };
+        let det = glam::Mat3::from_cols_array_2d(&m).determinant();
+        if m.iter().flatten().all(|v| v.is_finite()) && det > 0.01 {
+            Ok(m)
+        } else {
+            Err(Error::InvalidSetting {
+                field: "NormalEncoding::view_from_world",
+                value: format!("{m:?} (determinant {det})"),
+                expected: "a finite rotation (the view matrix's upper-left 3x3), not degenerate or mirrored",
+            })
+        }
+    }
 }
 
 /// Depth linearization in the form shared by every convention:
@@ -99,12 +141,14 @@ pub struct Linearize {
     pub sky: SkyTest,
 }
 
-/// Which raw depth values mean "no surface".
+/// Which raw depth values mean "no surface": the far plane (sky) and values outside the
+/// convention's [0, 1] range, which would lie in front of the near plane and must never
+/// act as near occluders.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SkyTest {
-    /// `z >= 1` (standard depth cleared to the far plane).
+    /// `z >= 1` (standard depth cleared to the far plane) or `z < 0`.
     AtLeastOne,
-    /// `z <= 0` (reversed depth cleared to the far plane).
+    /// `z <= 0` (reversed depth cleared to the far plane) or `z > 1`.
     AtMostZero,
     /// Only non-finite or non-positive linear depth is missing.
     NonPositive,
@@ -130,8 +174,8 @@ impl Linearize {
             return None;
         }
         let sky = match self.sky {
-            SkyTest::AtLeastOne => z >= 1.0,
-            SkyTest::AtMostZero => z <= 0.0,
+            SkyTest::AtLeastOne => !(0.0..1.0).contains(&z),
+            SkyTest::AtMostZero => z <= 0.0 || z > 1.0,
             SkyTest::NonPositive => false,
         };
         if sky {

@@ -23,7 +23,7 @@ crate::gpu_struct! {
         pub sky_test: u32,
         /// 1 for perspective, 0 for orthographic.
         pub perspective: u32,
-        /// 0: reconstruct normals from depth; 1: signed view-space input; 2: unorm input.
+        /// 0: reconstruct normals from depth; 1: signed input; 2: unorm input.
         pub normals_mode: u32,
         /// AO radius, view-space units, and 1 / radius².
         pub radius: f32,
@@ -45,6 +45,9 @@ crate::gpu_struct! {
         pub pyramid_offset: u32,
         /// The viewport size at full resolution, pixels.
         pub full_size: [u32; 2],
+        /// Columns (xyz; w unused) of the rotation taking the caller's normals to view
+        /// space (identity for view-space normals, see [`NormalEncoding::to_view`]).
+        pub normal_to_view: [[f32; 4]; 3],
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
@@ -63,6 +66,7 @@ impl FrameUniforms {
         options.validate()?;
         params.validate()?;
         let lin = projection.linearize(convention)?;
+        let rotation = normals.map_or(Ok(crate::input::IDENTITY3), |e| e.to_view())?;
         if viewport.width == 0 || viewport.height == 0 {
             return Err(crate::Error::InvalidViewport(format!(
                 "{}x{} is empty",
@@ -83,8 +87,8 @@ impl FrameUniforms {
             perspective: projection.is_perspective() as u32,
             normals_mode: match normals {
                 None => 0,
-                Some(NormalEncoding::ViewSigned) => 1,
-                Some(NormalEncoding::ViewUnorm) => 2,
+                Some(e) if e.is_unorm() => 2,
+                Some(_) => 1,
             },
             radius: params.radius,
             inv_radius2: 1.0 / (params.radius * params.radius),
@@ -105,6 +109,7 @@ impl FrameUniforms {
             up_factor: options.upsample_factor(),
             pyramid_offset: 0,
             full_size: [viewport.width, viewport.height],
+            normal_to_view: rotation.map(|c| [c[0], c[1], c[2], 0.0]),
             patterns: if options.jitter {
                 pattern_table(options.directions)
             } else {

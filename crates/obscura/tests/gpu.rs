@@ -73,6 +73,7 @@ fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput<'_>
         projection,
         normals: None,
         viewport: None,
+        output: None,
     }
 }
 
@@ -115,6 +116,7 @@ fn run_ao(
         projection,
         normals: None,
         viewport,
+        output: None,
     };
     let frame = ao.validate(&input, params).unwrap();
     c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, params))
@@ -1024,8 +1026,77 @@ fn bad_inputs_are_typed_errors_before_gpu_work() {
     };
     assert!(matches!(
         ao.validate(&wrong_normals, &p),
-        Err(Error::InvalidViewport(_))
+        Err(Error::InvalidTexture { what: "normal", .. })
     ));
+    // World-space normals with a mirrored or non-finite rotation.
+    let tex_normals = upload_r32(&vec![0.0; (W * H) as usize], W, H);
+    let tex_normals_view = tex_normals.create_view(&Default::default());
+    for m in [
+        [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [[f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [[0.0; 3]; 3],
+    ] {
+        let world = AoInput {
+            normals: Some((
+                &tex_normals_view,
+                obscura::NormalEncoding::WorldSigned { view_from_world: m },
+            )),
+            ..good
+        };
+        assert!(
+            matches!(
+                ao.validate(&world, &p),
+                Err(Error::InvalidSetting {
+                    field: "NormalEncoding::view_from_world",
+                    ..
+                })
+            ),
+            "{m:?}"
+        );
+    }
+    // Caller outputs: wrong format, size, usage.
+    let storage = |format, w, h, usage| {
+        c.device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: None,
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+            .create_view(&Default::default())
+    };
+    use wgpu::TextureFormat as F;
+    use wgpu::TextureUsages as U;
+    let cases = [
+        (storage(F::Rgba8Unorm, W, H, U::STORAGE_BINDING), "format"),
+        (storage(F::R32Float, W + 1, H, U::STORAGE_BINDING), "size"),
+        (storage(F::R32Float, W, H, U::TEXTURE_BINDING), "usage"),
+    ];
+    for (out, what) in &cases {
+        let bad_output = AoInput {
+            output: Some(out),
+            ..good
+        };
+        let e = ao.validate(&bad_output, &p);
+        assert!(
+            matches!(
+                (what, &e),
+                (
+                    &"format",
+                    Err(Error::UnsupportedFormat { what: "output", .. })
+                ) | (_, Err(Error::InvalidTexture { what: "output", .. }))
+            ),
+            "{what}: {e:?}"
+        );
+    }
     // Nothing above reached the GPU, so nothing was reported there either.
     c.take_errors().unwrap();
 }
@@ -1131,10 +1202,32 @@ fn given_normals_are_decoded_and_normalized() {
     );
     let unorm_texel = [n.x, n.y, n.z, 0.0].map(|v| ((v * 0.5 + 0.5) * 255.0).round() as u8);
     let unorm = make(wgpu::TextureFormat::Rgba8Unorm, &unorm_texel);
+    // World space: the texture holds R⁻¹ n for a view rotation R (40° about a tilted axis),
+    // and the prepare pass must rotate it back to n.
+    let r = glam::Mat3::from_axis_angle(Vec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
+    let wn = r.transpose() * n;
+    let world_signed = make(
+        wgpu::TextureFormat::Rgba32Float,
+        bytemuck::cast_slice(&[wn.x, wn.y, wn.z, 0.0]),
+    );
+    let world_unorm_texel =
+        [wn.x, wn.y, wn.z, 0.0].map(|v| ((v * 0.5 + 0.5) * 255.0).round() as u8);
+    let world_unorm = make(wgpu::TextureFormat::Rgba8Unorm, &world_unorm_texel);
+    let view_from_world = r.to_cols_array_2d();
     // Tolerances: float input exact to 1e-5; 8-bit unorm input to one quantization step.
     for (tex, encoding, tol) in [
         (&signed, obscura::NormalEncoding::ViewSigned, 1e-5),
         (&unorm, obscura::NormalEncoding::ViewUnorm, 2.0 / 255.0),
+        (
+            &world_signed,
+            obscura::NormalEncoding::WorldSigned { view_from_world },
+            1e-5,
+        ),
+        (
+            &world_unorm,
+            obscura::NormalEncoding::WorldUnorm { view_from_world },
+            2.0 / 255.0,
+        ),
     ] {
         let view = tex.create_view(&Default::default());
         let mut ao = Ao::new(&c.device, randomized()).unwrap();
@@ -1716,5 +1809,121 @@ fn recentred_levels_lie_on_the_surface() {
                 );
             }
         }
+    }
+}
+
+/// Raw depth outside the convention's [0, 1] range lies in front of the near plane: it is
+/// missing data, never a near occluder (Standard: z < 0; reversed: z > 1), on a plane seen
+/// in perspective, for every estimator.
+#[test]
+fn raw_depth_outside_its_range_is_missing() {
+    let _g = lock();
+    let (w, h) = (48, 32);
+    let p = persp(w, h);
+    let params = AoParams {
+        radius: 3.0,
+        strength: 4.0,
+        ..Default::default()
+    };
+    for (convention, bad) in [
+        (DepthConvention::Standard, -0.5f32),
+        (DepthConvention::ReversedZ, 1.5),
+        (DepthConvention::ReversedZInfinite, 1.5),
+    ] {
+        let solid = vec![p.encode_depth(convention, 4.0); (w * h) as usize];
+        let mut holed = solid.clone();
+        for (i, z) in holed.iter_mut().enumerate() {
+            if i % 7 == 0 {
+                *z = bad;
+            }
+        }
+        for estimator in Estimator::ALL {
+            let options = AoOptions {
+                estimator,
+                ..randomized()
+            };
+            let run = |raw: &[f32]| run_ao(raw, w, h, p, convention, None, options, &params);
+            let (with, without) = (run(&holed), run(&solid));
+            for (i, (a, b)) in with.ao.iter().zip(&without.ao).enumerate() {
+                // Tolerance 1e-4: float noise only.
+                assert!(
+                    a + 1e-4 >= *b,
+                    "{convention:?} {estimator:?} pixel {i}: {a} with raw {bad} < {b} without"
+                );
+            }
+            for (i, v) in holed.iter().enumerate() {
+                if *v == bad {
+                    assert_eq!(
+                        with.prepared[i].x, 0.0,
+                        "{convention:?}: raw {bad} must be missing"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A caller-provided output receives exactly the AO the library writes to its own
+/// texture, in every layout and resolution, and then the library creates no output of its
+/// own.
+#[test]
+fn caller_output_receives_the_same_ao() {
+    let _g = lock();
+    let c = ctx();
+    let p = persp(W, H);
+    let raw = test_scene(&p, W, H);
+    let depth = upload_r32(&raw, W, H);
+    let depth_view = depth.create_view(&Default::default());
+    let params = AoParams {
+        radius: 1.5,
+        ..Default::default()
+    };
+    let target = c.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("caller ao"),
+        size: wgpu::Extent3d {
+            width: W,
+            height: H,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let target_view = target.create_view(&Default::default());
+    for options in [
+        randomized(),
+        AoOptions::default(),
+        AoOptions {
+            fused: false,
+            ..Default::default()
+        },
+        AoOptions {
+            resolution: Resolution::Half,
+            ..Default::default()
+        },
+        AoOptions {
+            denoise: Denoise::Blur,
+            ..randomized()
+        },
+    ] {
+        let own = {
+            let mut ao = Ao::new(&c.device, options).unwrap();
+            let input = linear_input(&depth_view, p);
+            c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+                .unwrap();
+            c.read_f32(ao.output().unwrap()).unwrap()
+        };
+        let mut ao = Ao::new(&c.device, options).unwrap();
+        let input = AoInput {
+            output: Some(&target_view),
+            ..linear_input(&depth_view, p)
+        };
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap();
+        assert_eq!(c.read_f32(&target).unwrap(), own, "{options:?}");
+        assert!(ao.output().is_none(), "{options:?}: no library output made");
     }
 }
