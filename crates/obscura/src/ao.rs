@@ -588,6 +588,33 @@ fn bind_group(
     })
 }
 
+/// Out-of-memory and validation error scopes around resource creation on the caller's
+/// device (never around per-frame recording), so failures come back as typed errors
+/// instead of reaching the device's uncaptured-error handler.
+struct ErrorScope {
+    oom: wgpu::ErrorScopeGuard,
+    validation: wgpu::ErrorScopeGuard,
+}
+
+impl ErrorScope {
+    fn push(device: &wgpu::Device) -> Self {
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        Self { oom, validation }
+    }
+
+    fn pop(self, doing: &str) -> Result<()> {
+        let v = pollster::block_on(self.validation.pop());
+        let o = pollster::block_on(self.oom.pop());
+        match o.or(v).map(Error::from) {
+            None => Ok(()),
+            Some(Error::OutOfMemory(e)) => Err(Error::OutOfMemory(format!("{doing}: {e}"))),
+            Some(Error::Gpu(e)) => Err(Error::Gpu(format!("{doing}: {e}"))),
+            Some(e) => Err(e),
+        }
+    }
+}
+
 /// How a depth input binds.
 fn depth_binding(format: wgpu::TextureFormat) -> Result<DepthBinding> {
     use wgpu::TextureFormat as F;
@@ -643,7 +670,7 @@ impl Ao {
     /// Validates `options` and compiles every pipeline they need.
     pub fn new(device: &wgpu::Device, options: AoOptions) -> Result<Self> {
         options.validate()?;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = ErrorScope::push(device);
         let (prepare_store, steps) = plan_steps(&options);
         let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
             [false, true].map(|reconstruct| {
@@ -690,11 +717,7 @@ impl Ao {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(format!(
-                "creating obscura's pipelines failed: {e}"
-            )));
-        }
+        scope.pop("creating obscura's pipelines")?;
         Ok(Self {
             options,
             prepare,
@@ -844,10 +867,13 @@ impl Ao {
     }
 
     /// Creates the size-dependent resources unless they already match `size`.
-    fn ensure_size(&mut self, device: &wgpu::Device, size: [u32; 2]) {
+    fn ensure_size(&mut self, device: &wgpu::Device, size: [u32; 2]) -> Result<()> {
         if self.sized.as_ref().is_some_and(|s| s.size == size) {
-            return;
+            return Ok(());
         }
+        // Drop the old set first: at large sizes two sets may not fit together.
+        self.sized = None;
+        let scope = ErrorScope::push(device);
         let n = self.options.mode.split();
         let work_factor = self.options.resolution.factor();
         let at = |f: u32| (size[0].div_ceil(f), size[1].div_ceil(f));
@@ -998,6 +1024,14 @@ impl Ao {
             output_binding: None,
             own_output: None,
         });
+        if let Err(e) = scope.pop(&format!(
+            "creating obscura's {}x{} textures",
+            size[0], size[1]
+        )) {
+            self.sized = None;
+            return Err(e);
+        }
+        Ok(())
     }
 
     /// Validates, uploads uniforms, and returns the passes of this frame in order as
@@ -1014,7 +1048,7 @@ impl Ao {
         let work = frame.at_factor(self.options.resolution.factor());
         queue.write_buffer(&self.work_uniforms, 0, bytemuck::bytes_of(&work));
         let binding = depth_binding(input.depth.texture().format())?;
-        self.ensure_size(device, frame.size);
+        self.ensure_size(device, frame.size)?;
         let Some(sized) = self.sized.as_mut() else {
             return Err(Error::Gpu("size-dependent resources missing".into()));
         };
@@ -1049,6 +1083,7 @@ impl Ao {
         };
         // The output: the caller's view, or the library's own texture.
         if input.output.is_none() && sized.own_output.is_none() {
+            let scope = ErrorScope::push(device);
             let t = make_texture(
                 device,
                 "obscura ao",
@@ -1058,6 +1093,7 @@ impl Ao {
                 AO_FORMAT,
             );
             let v = t.create_view(&Default::default());
+            scope.pop("creating obscura's output texture")?;
             self.created.textures += 1;
             self.created.texture_views += 1;
             sized.own_output = Some((t, v));

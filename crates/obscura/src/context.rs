@@ -100,8 +100,15 @@ impl GpuContext {
         Self::with_choice(&AdapterChoice::from_env())
     }
 
-    /// Creates a context on the best adapter that `choice` accepts.
+    /// Creates a context on the best adapter that `choice` accepts, with every limit the
+    /// adapter offers.
     pub fn with_choice(choice: &AdapterChoice) -> Result<Self> {
+        Self::with_limits(choice, None)
+    }
+
+    /// As [`GpuContext::with_choice`], requesting `limits` instead of the adapter's own
+    /// (`Some(wgpu::Limits::default())`: WebGPU's default limits, what a browser gives).
+    pub fn with_limits(choice: &AdapterChoice, limits: Option<wgpu::Limits>) -> Result<Self> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: BACKENDS,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
@@ -139,7 +146,7 @@ impl GpuContext {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("obscura"),
             required_features,
-            required_limits: adapter.limits(),
+            required_limits: limits.unwrap_or_else(|| adapter.limits()),
             ..Default::default()
         }))
         .map_err(|e| Error::DeviceCreation {
@@ -207,7 +214,8 @@ impl GpuContext {
     }
 
     /// Runs `record` inside validation and out-of-memory error scopes, submits, waits for
-    /// the GPU, and turns any wgpu error into [`Error::Gpu`] / [`Error::DeviceLost`].
+    /// the GPU, and turns any wgpu error into [`Error::Gpu`], [`Error::OutOfMemory`] or
+    /// [`Error::DeviceLost`].
     pub fn run<T>(&self, record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>) -> Result<T> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -222,8 +230,9 @@ impl GpuContext {
         // before waiting on a submission that may not exist.
         let v_err = pollster::block_on(validation.pop());
         let o_err = pollster::block_on(oom.pop());
-        if let Some(e) = v_err.or(o_err) {
-            return Err(Error::Gpu(e.to_string()));
+        if let Some(e) = o_err.or(v_err) {
+            self.take_errors()?;
+            return Err(e.into());
         }
         let value = value?;
         self.wait(index)?;

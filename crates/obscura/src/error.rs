@@ -43,12 +43,25 @@ pub enum Error {
         format: wgpu::TextureFormat,
         expected: &'static str,
     },
-    /// wgpu reported a validation or out-of-memory error while recording or running obscura's work.
+    /// wgpu reported a validation or internal error while recording or running obscura's work.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// The device ran out of memory creating obscura's textures or running its passes
+    /// (a smaller size, a lower resolution or fewer layers need less).
+    #[error("GPU out of memory: {0}")]
+    OutOfMemory(String),
     /// The device was lost (driver reset, out of memory, ...).
     #[error("GPU device lost: {0}")]
     DeviceLost(String),
+}
+
+impl From<wgpu::Error> for Error {
+    fn from(e: wgpu::Error) -> Self {
+        match e {
+            wgpu::Error::OutOfMemory { .. } => Error::OutOfMemory(e.to_string()),
+            _ => Error::Gpu(e.to_string()),
+        }
+    }
 }
 
 /// Shorthand for results whose error is [`Error`].

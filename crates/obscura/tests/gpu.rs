@@ -1927,3 +1927,213 @@ fn caller_output_receives_the_same_ao() {
         assert!(ao.output().is_none(), "{options:?}: no library output made");
     }
 }
+
+/// A `Depth32Float` texture holding `raw`: written by a fragment shader through
+/// `frag_depth`, since depth textures cannot be filled by copies.
+fn upload_depth32(raw: &[f32], w: u32, h: u32) -> wgpu::Texture {
+    let c = ctx();
+    let src = upload_r32(raw, w, h);
+    let src_view = src.create_view(&Default::default());
+    let depth = c.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test depth32"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let module = c.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("write depth"),
+        source: wgpu::ShaderSource::Wgsl(
+            "@group(0) @binding(0) var src: texture_2d<f32>;
+             @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+                 let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+                 return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
+             }
+             struct Out { @builtin(frag_depth) depth: f32 }
+             @fragment fn fs(@builtin(position) p: vec4<f32>) -> Out {
+                 return Out(textureLoad(src, vec2<i32>(p.xy), 0).x);
+             }"
+            .into(),
+        ),
+    });
+    let pipeline = c
+        .device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("write depth"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                buffers: &[],
+                compilation_options: Default::default(),
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                targets: &[],
+                compilation_options: Default::default(),
+            }),
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+    let bind = c.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::TextureView(&src_view),
+        }],
+    });
+    let depth_view = depth.create_view(&Default::default());
+    c.run(|enc| {
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("write depth"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+        Ok(())
+    })
+    .unwrap();
+    depth
+}
+
+/// The same scene gives the same AO whatever encodes its depth: every convention, the
+/// projection given by parameters or read from the matrix that encoded the depth (glam's
+/// D3D-style matrices: an encoding independent of `Projection::encode_depth`), and depth
+/// in a float (`R32Float`) or a depth (`Depth32Float`) texture, in perspective and
+/// orthographic views. Reference: linear view depth with the parameter projection.
+#[test]
+fn every_convention_projection_and_format_gives_the_same_ao() {
+    use glam::camera::rh::proj::directx as dx;
+    let _g = lock();
+    let c = ctx();
+    let (w, h) = (128, 80);
+    let params = AoParams {
+        radius: 2.0,
+        ..Default::default()
+    };
+    let options = AoOptions::default();
+    let ao_of = |view: &wgpu::TextureView, projection: Projection, convention| {
+        let mut ao = Ao::new(&c.device, options).unwrap();
+        let input = AoInput {
+            convention,
+            ..linear_input(view, projection)
+        };
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap();
+        c.read_f32(ao.output().unwrap()).unwrap()
+    };
+    let aspect = w as f32 / h as f32;
+    let (fov, near, far) = (60f32.to_radians(), 0.1, 100.0);
+    let (hh, o_near, o_far) = (4.0, 0.1, 20.0);
+    let hw = hh * aspect;
+    use DepthConvention as C;
+    let cases = [
+        (
+            persp(w, h),
+            vec![
+                (C::Standard, dx::perspective(fov, aspect, near, far), 1.0),
+                (C::ReversedZ, dx::perspective(fov, aspect, far, near), 0.0),
+                (
+                    C::ReversedZInfinite,
+                    dx::perspective_infinite_reverse(fov, aspect, near),
+                    0.0,
+                ),
+            ],
+        ),
+        (
+            ortho(w, h),
+            vec![
+                (
+                    C::Standard,
+                    dx::orthographic(-hw, hw, -hh, hh, o_near, o_far),
+                    1.0,
+                ),
+                (
+                    C::ReversedZ,
+                    dx::orthographic(-hw, hw, -hh, hh, o_far, o_near),
+                    0.0,
+                ),
+            ],
+        ),
+    ];
+    for (projection, encodings) in cases {
+        let lin = test_scene(&projection, w, h);
+        let lin_tex = upload_r32(&lin, w, h);
+        let reference = ao_of(
+            &lin_tex.create_view(&Default::default()),
+            projection,
+            C::LinearView,
+        );
+        let occluded = reference.iter().filter(|&&a| a < 0.9).count();
+        assert!(
+            occluded * 100 > reference.len(),
+            "the scene must be occluded somewhere ({occluded} of {} pixels)",
+            reference.len()
+        );
+        for (convention, m, sky) in encodings {
+            let raw: Vec<f32> = lin
+                .iter()
+                .map(|&d| {
+                    if d > 0.0 {
+                        let clip = m * Vec4::new(0.0, 0.0, -d, 1.0);
+                        clip.z / clip.w
+                    } else {
+                        sky
+                    }
+                })
+                .collect();
+            let from_matrix = Projection::from_matrix(m.to_cols_array_2d(), convention).unwrap();
+            for (how, p) in [("parameters", projection), ("matrix", from_matrix)] {
+                for format in ["R32Float", "Depth32Float"] {
+                    let tex = if format == "R32Float" {
+                        upload_r32(&raw, w, h)
+                    } else {
+                        upload_depth32(&raw, w, h)
+                    };
+                    let got = ao_of(&tex.create_view(&Default::default()), p, convention);
+                    let what = format!("{projection:?} {convention:?} by {how}, {format}");
+                    // Tolerance: depth encodings round differently, which can flip a
+                    // sample at the radius boundary: mean difference 1e-3, and 99% of
+                    // pixels within 0.01.
+                    let diff: Vec<f32> = got
+                        .iter()
+                        .zip(&reference)
+                        .map(|(a, b)| (a - b).abs())
+                        .collect();
+                    let mean = diff.iter().sum::<f32>() / diff.len() as f32;
+                    let close = diff.iter().filter(|&&d| d <= 0.01).count();
+                    assert!(mean <= 1e-3, "{what}: mean difference {mean}");
+                    assert!(close * 100 >= diff.len() * 99, "{what}: {close} close");
+                }
+            }
+        }
+    }
+}

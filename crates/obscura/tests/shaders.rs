@@ -46,3 +46,54 @@ fn frame_uniforms_layout_matches_wgsl() {
     }
     assert_eq!(span as usize, std::mem::size_of::<FrameUniforms>());
 }
+
+/// Every pass stays within WebGPU's defaults, so the same WGSL can run in a browser: at
+/// most 4 storage textures per shader stage (`maxStorageTexturesPerShaderStage`), and only
+/// storage formats core WebGPU allows (no `r16float` storage, which needs a feature).
+#[test]
+fn every_pass_fits_webgpu_default_limits() {
+    // WebGPU's core storage-texture formats (WebGPU spec, "Texture Format Capabilities").
+    use naga::StorageFormat as S;
+    let core = [
+        S::Rgba8Unorm,
+        S::Rgba8Snorm,
+        S::Rgba8Uint,
+        S::Rgba8Sint,
+        S::Rgba16Uint,
+        S::Rgba16Sint,
+        S::Rgba16Float,
+        S::R32Uint,
+        S::R32Sint,
+        S::R32Float,
+        S::Rg32Uint,
+        S::Rg32Sint,
+        S::Rg32Float,
+        S::Rgba32Uint,
+        S::Rgba32Sint,
+        S::Rgba32Float,
+        S::Bgra8Unorm,
+    ];
+    for pass in Pass::all() {
+        let module = parse(pass);
+        let formats: Vec<naga::StorageFormat> = module
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| match module.types[g.ty].inner {
+                naga::TypeInner::Image {
+                    class: naga::ImageClass::Storage { format, .. },
+                    ..
+                } => Some(format),
+                _ => None,
+            })
+            .collect();
+        assert!(
+            formats.len() <= 4,
+            "{}: {} storage textures",
+            pass.label(),
+            formats.len()
+        );
+        for f in formats {
+            assert!(core.contains(&f), "{}: storage format {f:?}", pass.label());
+        }
+    }
+}

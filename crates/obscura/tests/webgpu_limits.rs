@@ -1,0 +1,126 @@
+//! Every option combination runs on a device limited to WebGPU's default limits (what a
+//! browser grants without asking), with no validation error. Its own binary: it needs its
+//! own device.
+
+use obscura::{
+    AdapterChoice, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention,
+    DepthDownsample, Estimator, GpuContext, Projection, Resolution, Upsampler,
+};
+
+#[test]
+fn every_option_runs_within_webgpu_default_limits() {
+    let limits = wgpu::Limits::default();
+    let c = GpuContext::with_limits(&AdapterChoice::from_env(), Some(limits.clone()))
+        .unwrap_or_else(|e| panic!("this test needs a Vulkan adapter (lavapipe is enough): {e}"));
+    assert_eq!(
+        c.device.limits().max_storage_textures_per_shader_stage,
+        limits.max_storage_textures_per_shader_stage
+    );
+    let (w, h) = (37u32, 23u32);
+    // A slanted floor with a box on it, as linear view depth.
+    let depth: Vec<f32> = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            if (12..20).contains(&x) && (8..16).contains(&y) {
+                3.0
+            } else {
+                3.5 + y as f32 * 0.05
+            }
+        })
+        .collect();
+    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("depth"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    c.queue.write_texture(
+        tex.as_image_copy(),
+        bytemuck::cast_slice(&depth),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w * 4),
+            rows_per_image: Some(h),
+        },
+        tex.size(),
+    );
+    let view = tex.create_view(&Default::default());
+    let input = AoInput {
+        depth: &view,
+        convention: DepthConvention::LinearView,
+        projection: Projection::Perspective {
+            fov_y: 1.0,
+            aspect: w as f32 / h as f32,
+            near: 0.1,
+            far: 50.0,
+        },
+        normals: None,
+        viewport: None,
+        output: None,
+    };
+    let params = AoParams {
+        radius: 0.5,
+        ..Default::default()
+    };
+    // Every pass variant at least once: every estimator in every layout (fused or not) at
+    // full resolution; every resolution, upsampler and denoise choice; every estimator at
+    // half resolution.
+    let mut all = Vec::new();
+    for estimator in Estimator::ALL {
+        for mode in AoMode::ALL {
+            for fused in [true, false] {
+                all.push(AoOptions {
+                    estimator,
+                    mode,
+                    fused,
+                    ..Default::default()
+                });
+            }
+        }
+        all.push(AoOptions {
+            estimator,
+            resolution: Resolution::Half,
+            ..Default::default()
+        });
+    }
+    for resolution in Resolution::ALL {
+        for upsample in Upsampler::ALL {
+            for denoise in Denoise::ALL {
+                for downsample in [
+                    DepthDownsample::Checkerboard,
+                    DepthDownsample::Representative,
+                ] {
+                    if resolution == Resolution::Full && !denoise.downsamples() {
+                        continue;
+                    }
+                    all.push(AoOptions {
+                        resolution,
+                        upsample,
+                        denoise,
+                        downsample,
+                        ..Default::default()
+                    });
+                }
+            }
+        }
+    }
+    for options in &all {
+        let mut ao = Ao::new(&c.device, *options).unwrap_or_else(|e| panic!("{options:?}: {e}"));
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap_or_else(|e| panic!("{options:?}: {e}"));
+        let out = c.read_f32(ao.output().unwrap()).unwrap();
+        assert!(
+            out.iter().all(|a| (0.0..=1.0).contains(a)),
+            "{options:?}: AO outside [0, 1]"
+        );
+    }
+    assert!(all.len() > 80, "{} combinations", all.len());
+}
