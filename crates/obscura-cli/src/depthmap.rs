@@ -427,15 +427,6 @@ mod tests {
         v
     }
 
-    /// Mutation cases per loader: a few thousand in CI (well under a second each);
-    /// OBSCURA_FUZZ_CASES=1000000 for a long run by hand.
-    fn cases() -> usize {
-        std::env::var("OBSCURA_FUZZ_CASES")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(3000)
-    }
-
     fn npy(w: u64, h: u64, values: &[f32]) -> Vec<u8> {
         let header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({h}, {w}), }}");
         let pad = 64 - (10 + header.len() + 1) % 64;
@@ -518,7 +509,8 @@ mod tests {
         }
     }
 
-    /// Mutated files never panic a loader: each answer is a value or a typed error.
+    /// Mutated files never panic a loader: each answer is a value or a typed error. 3000
+    /// cases or 15 s in CI ([`obscura::fuzz::Budget`] for a long run by hand).
     #[test]
     fn fuzz_depth_and_intrinsics_loaders() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -531,11 +523,19 @@ mod tests {
             img.write_to(&mut out, image::ImageFormat::Png).unwrap();
             out.into_inner()
         };
+        let valid_exr = {
+            let img = image::Rgb32FImage::from_raw(4, 3, vec![0.7; 36]).unwrap();
+            let mut out = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut out, image::ImageFormat::OpenExr).unwrap();
+            out.into_inner()
+        };
         let (mut ok, mut err) = (0, 0);
-        for _ in 0..cases() {
+        let budget = obscura::fuzz::Budget::from_env(3000, 15);
+        for _ in (0..).take_while(|&c| budget.more(c)) {
             let results = [
                 decode_npy(&mutate(&mut rng, &valid_npy)).is_ok(),
                 decode_image(&mutate(&mut rng, &valid_png), "png").is_ok(),
+                decode_image(&mutate(&mut rng, &valid_exr), "exr").is_ok(),
                 Intrinsics::parse(&String::from_utf8_lossy(&mutate(&mut rng, valid_json))).is_ok(),
             ];
             for r in results {

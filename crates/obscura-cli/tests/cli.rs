@@ -401,3 +401,41 @@ fn real_depth_maps_render_and_bad_ones_fail() {
     );
     std::fs::remove_dir_all(bad).unwrap();
 }
+
+/// The largest size the adapter's limits allow (16384 x 16384 on lavapipe) needs more
+/// memory than the driver gives: a typed out-of-memory message and no file (where a
+/// machine has the memory, a complete image instead), never a crash or a partial file.
+#[test]
+fn the_largest_size_fails_cleanly_or_succeeds() {
+    let d = scratch("largest");
+    let out_png = d.join("ao.png");
+    let out = obscura(&[
+        "render",
+        "--width",
+        "16384",
+        "--height",
+        "16384",
+        "--runs",
+        "1",
+        "--out",
+        s(&out_png),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    if out.status.success() {
+        let img = image::open(&out_png).unwrap().to_luma8();
+        assert_eq!(img.dimensions(), (16384, 16384));
+    } else {
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("out of memory") || err.contains("exceeds"),
+            "{err}"
+        );
+        assert!(!out_png.exists(), "a failed run left {}", out_png.display());
+        assert!(
+            std::fs::read_dir(&d).unwrap().next().is_none(),
+            "no partial files"
+        );
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}

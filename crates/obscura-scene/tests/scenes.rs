@@ -279,13 +279,9 @@ fn every_estimator_converges_to_its_screen_space_reference() {
 
 /// Mutated scene files (byte flips, truncation, duplication, insertion of the shared Cornell
 /// box .glb and .obj) never panic the loader: each is a mesh or a typed error. 400 cases per
-/// format in CI; OBSCURA_FUZZ_CASES raises it for a long run by hand.
+/// format or 10 s in CI ([`obscura::fuzz::Budget`] for a long run by hand).
 #[test]
 fn fuzz_mesh_loader() {
-    let cases: usize = std::env::var("OBSCURA_FUZZ_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(400);
     let dir = scratch("fuzz");
     let mut state = 0x1234_5678_9abc_def1u64;
     let mut next = move || {
@@ -298,7 +294,8 @@ fn fuzz_mesh_loader() {
         let valid = std::fs::read(shared_scenes().join("cornell_box").join(name)).unwrap();
         let path = dir.join(name);
         let (mut ok, mut err) = (0, 0);
-        for case in 0..cases {
+        let budget = obscura::fuzz::Budget::from_env(400, 10);
+        for case in (0..).take_while(|&c| budget.more(c)) {
             let mut v = valid.clone();
             for _ in 0..1 + next() % 4 {
                 let i = (next() as usize) % (v.len() + 1);

@@ -3,8 +3,9 @@
 //!     cargo run --release -p obscura --example compose -- [out.png]
 //!
 //! The app's own part (geometry, a Lambert render pass) is what any renderer already has.
-//! The integration is marked `// obscura:` — create once, record per frame, sample the
-//! output in your lighting (here a compute pass multiplies the lit colour by the AO).
+//! The integration is the five steps marked `// obscura, step N` (the crate docs list the
+//! same five): depth readable, create once, an AO texture, record per frame, read the AO
+//! in lighting (here a compute pass multiplies the lit colour by the AO).
 //! Headless: writes a PNG (default `compose.png`) instead of presenting to a window.
 
 use glam::Vec3;
@@ -123,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wgpu::TextureFormat::Rgba8Unorm,
         U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
     );
-    // obscura reads the depth buffer: give it TEXTURE_BINDING usage.
+    // obscura, step 1: obscura reads the depth buffer: give it TEXTURE_BINDING usage.
     let depth = target(
         &ctx,
         wgpu::TextureFormat::Depth32Float,
@@ -173,9 +174,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }],
     });
 
-    // obscura: once, at start-up (pipelines compiled here), and the compose pass reading it.
+    // obscura, step 2: once, at start-up: compile the passes, describe the camera.
     let mut ao = Ao::new(dev, AoOptions::default())?;
     let projection = Projection::from_matrix(proj.to_cols_array_2d(), DepthConvention::Standard)?;
+    // obscura, step 3: an R32Float AO texture the app owns (STORAGE_BINDING for obscura,
+    // TEXTURE_BINDING for lighting), so the lighting bind group is made once.
+    let ao_tex = target(
+        &ctx,
+        wgpu::TextureFormat::R32Float,
+        U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+    );
+    let ao_view = ao_tex.create_view(&Default::default());
     let composed = target(
         &ctx,
         wgpu::TextureFormat::Rgba8Unorm,
@@ -188,6 +197,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         entry_point: Some("compose"),
         compilation_options: Default::default(),
         cache: None,
+    });
+    let composed_view = composed.create_view(&Default::default());
+    let compose_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &compose.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&color_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&ao_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&composed_view),
+            },
+        ],
     });
 
     // --- One frame. ---
@@ -218,55 +246,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             pass.set_vertex_buffer(0, vbuf.slice(..));
             pass.draw(0..verts.len() as u32, 0..1);
         }
-        // obscura: per frame, record into the same encoder after the depth is written.
+        // obscura, step 4: per frame, into the same encoder, after the depth is written.
         let input = AoInput {
             depth: &depth_view,
             convention: DepthConvention::Standard,
             projection,
             normals: None,
             viewport: None,
-            output: None,
+            output: Some(&ao_view),
         };
-        ao.record(
-            dev,
-            &ctx.queue,
-            enc,
-            &input,
-            &AoParams {
-                radius: 0.6,
-                ..Default::default()
-            },
-        )?;
-        let ao_view = ao
-            .output_view()
-            .ok_or(obscura::Error::Gpu("no AO output".into()))?;
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &compose.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&color_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(ao_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(
-                        &composed.create_view(&Default::default()),
-                    ),
-                },
-            ],
-        });
+        let params = AoParams {
+            radius: 0.6,
+            ..Default::default()
+        };
+        ao.record(dev, &ctx.queue, enc, &input, &params)?;
+        // obscura, step 5: lighting reads the AO (1 = unoccluded); here lit colour x AO.
         let mut pass = enc.begin_compute_pass(&Default::default());
         pass.set_pipeline(&compose);
-        pass.set_bind_group(0, &bind, &[]);
+        pass.set_bind_group(0, &compose_bind, &[]);
         pass.dispatch_workgroups(W.div_ceil(8), H.div_ceil(8), 1);
         Ok(())
     })?;
 
+    // A check, so CI notices a broken integration: the boxes must darken the floor
+    // around their bases, and AO stays in [0, 1].
+    let values = ctx.read_f32(&ao_tex)?;
+    let dark = values.iter().filter(|&&a| a < 0.8).count();
+    if dark * 200 < values.len() || values.iter().any(|a| !(0.0..=1.0).contains(a)) {
+        return Err(format!(
+            "implausible AO: {dark} of {} pixels below 0.8",
+            values.len()
+        )
+        .into());
+    }
     let pixels = ctx.read_texture(&composed)?;
     image::save_buffer(&out_path, &pixels, W, H, image::ExtendedColorType::Rgba8)?;
     eprintln!(

@@ -3,21 +3,32 @@
 //! Screen-space ambient occlusion from a depth buffer, as wgpu compute passes.
 //!
 //! ```text
-//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──GTAO | HBAO──▶ AO (R32Float)
-//!                  (N×N deinterleaved layers in the default mode, merged on write)
+//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──GTAO | HBAO | VO | VAO | SAO──▶ AO
+//!   (N×N deinterleaved layers in the default mode, merged on write; or at half/quarter
+//!    resolution: downsampled by a depth rule, upsampled depth-aware)
 //! ```
 //!
-//! Integration in four steps:
-//! 1. Create a [`GpuContext`] (or use your own `wgpu::Device`).
-//! 2. `let mut ao = Ao::new(&device, AoOptions::default())?;` once.
-//! 3. Each frame: `ao.record(&device, &queue, &mut encoder, &AoInput { .. }, &AoParams::default())?;`
-//! 4. Read [`Ao::output_view`] (1 = unoccluded) in your lighting.
+//! Integration in five steps (`examples/compose.rs` does exactly these in a small app):
+//! 1. Give your depth texture `TEXTURE_BINDING` usage (any depth format, or `R32Float`
+//!    linear depth; not multisampled).
+//! 2. Once: `let mut ao = Ao::new(&device, AoOptions::default())?;` compiles the passes;
+//!    describe the camera with [`Projection::from_matrix`] (or by parameters) and the
+//!    [`DepthConvention`] it writes.
+//! 3. Once: make an `R32Float` texture with `STORAGE_BINDING | TEXTURE_BINDING` usage for
+//!    the AO (or leave [`AoInput::output`] `None` and read [`Ao::output_view`]).
+//! 4. Each frame, after the depth pass, into the same encoder:
+//!    `ao.record(&device, &queue, &mut encoder, &AoInput { depth, convention, projection,
+//!    normals: None, viewport: None, output: Some(&ao_view) }, &AoParams { radius, ..Default::default() })?;`
+//!    — it validates, writes one uniform buffer and records the passes; no GPU objects
+//!    are created after the first frame at a size.
+//! 5. Read the AO (1 = unoccluded) in your lighting, e.g. multiply the ambient term.
 //!
 //! Every input is validated before any GPU work; errors are typed ([`Error`]).
 
 pub mod ao;
 pub mod context;
 pub mod error;
+pub mod fuzz;
 pub mod gpu_struct;
 pub mod input;
 pub mod jitter;

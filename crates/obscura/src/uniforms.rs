@@ -231,12 +231,9 @@ mod tests {
             state.set(x);
             x
         };
-        let cases: usize = std::env::var("OBSCURA_FUZZ_CASES")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(20000);
+        let budget = crate::fuzz::Budget::from_env(20000, 10);
         let (mut ok, mut refused) = (0, 0);
-        for _ in 0..cases {
+        for _ in (0..).take_while(|&c| budget.more(c)) {
             // Start from valid values and replace each with an awkward one with
             // probability 1/8, so both valid and invalid combinations occur.
             let f = |valid: f32| {
@@ -254,7 +251,29 @@ mod tests {
                 steps: f(4.0).abs().min(100.0) as u32,
                 mode: AoMode::ALL[pick(3)],
                 resolution: Resolution::ALL[pick(3)],
-                ..Default::default()
+                downsample: crate::DepthDownsample::ALL[pick(4)],
+                upsample: crate::Upsampler::ALL[pick(4)],
+                denoise: crate::Denoise::ALL[pick(4)],
+                fused: pick(2) == 0,
+                jitter: pick(2) == 0,
+                recentre: pick(2) == 0,
+            };
+            // Caller normals: none, view space, or world space with a rotation whose
+            // entries may be awkward too.
+            let rotation = [
+                [f(1.0), f(0.0), f(0.0)],
+                [f(0.0), f(1.0), f(0.0)],
+                [f(0.0), f(0.0), f(1.0)],
+            ];
+            let normals = match pick(4) {
+                0 => None,
+                1 => Some(NormalEncoding::ViewUnorm),
+                2 => Some(NormalEncoding::WorldSigned {
+                    view_from_world: rotation,
+                }),
+                _ => Some(NormalEncoding::WorldUnorm {
+                    view_from_world: rotation,
+                }),
             };
             let params = AoParams {
                 radius: f(1.0),
@@ -284,7 +303,14 @@ mod tests {
                 width: f(640.0).abs().min(1e5) as u32,
                 height: f(400.0).abs().min(1e5) as u32,
             };
-            match FrameUniforms::new(&projection, convention, None, viewport, &options, &params) {
+            match FrameUniforms::new(
+                &projection,
+                convention,
+                normals,
+                viewport,
+                &options,
+                &params,
+            ) {
                 Ok(u) => {
                     ok += 1;
                     let floats = [
@@ -300,7 +326,10 @@ mod tests {
                         u.ao_scale,
                     ];
                     assert!(
-                        floats.iter().all(|v| v.is_finite()),
+                        floats
+                            .iter()
+                            .chain(u.normal_to_view.iter().flatten())
+                            .all(|v| v.is_finite()),
                         "{options:?} {params:?} {projection:?}: {u:?}"
                     );
                     assert!((1..=64).contains(&options.directions) && params.radius > 0.0);
