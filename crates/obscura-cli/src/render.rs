@@ -491,7 +491,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     eprintln!("wrote {}", a.out.display());
 
     if a.depth_out.is_some() || a.normals_out.is_some() {
-        let prepared = read_prepared(&ctx, &ao, a.width, a.height)?;
+        let prepared = read_prepared(&ctx, &ao, &input, &params, a.width, a.height)?;
         if let Some(path) = &a.depth_out {
             save_png(
                 path,
@@ -531,9 +531,34 @@ pub fn run(a: &RenderArgs) -> Result<()> {
 }
 
 /// The prepared `vec4(depth, normal)` buffer at full resolution: read directly, or
-/// re-interleaved on the CPU from the deinterleaved layers (fused modes keep no full copy).
-fn read_prepared(ctx: &GpuContext, ao: &Ao, w: u32, h: u32) -> Result<Vec<f32>> {
+/// re-interleaved on the CPU from the deinterleaved layers (fused modes keep no full copy),
+/// or, below full resolution without a full-resolution copy, prepared once more by a
+/// full-resolution single pass.
+fn read_prepared(
+    ctx: &GpuContext,
+    ao: &Ao,
+    input: &obscura::AoInput<'_>,
+    params: &AoParams,
+    w: u32,
+    h: u32,
+) -> Result<Vec<f32>> {
     if let Some(view) = ao.prepared_view() {
+        return Ok(ctx.read_f32(view.texture())?);
+    }
+    if ao.options().resolution != Resolution::Full {
+        let mut full = Ao::new(
+            &ctx.device,
+            AoOptions {
+                mode: AoMode::Randomized,
+                resolution: Resolution::Full,
+                denoise: Denoise::None,
+                ..*ao.options()
+            },
+        )?;
+        ctx.run(|enc| full.record(&ctx.device, &ctx.queue, enc, input, params))?;
+        let view = full
+            .prepared_view()
+            .context("full-resolution prepared buffer missing")?;
         return Ok(ctx.read_f32(view.texture())?);
     }
     let view = ao

@@ -1,6 +1,7 @@
-// AO downsample filters of seed 003, 2x (dst = ceil(src / 2)). The tap offsets are
-// module constants, fixed at compile time rather than computed per pixel (the seed moves
-// them from the pixel to the vertex shader for the same reason).
+// AO downsample filters of seed 003, 2x (dst = ceil(src / 2)). The tap offsets and weights
+// are compile-time constants (TENT_SPACING, TENT_WEIGHTS from Rust; the 9-tap loop unrolls),
+// not computed per pixel (the seed moves them from the pixel to the vertex shader for the
+// same reason). CPU mirror: src/reference.rs, `ao_downsample`.
 // - box (TENT = false): the mean of the 4 children 2t + (0..1, 0..1);
 // - tent (TENT = true): 9 taps at offsets (-2, 0, 2) around the corner 2t + 1 shared by the
 //   children, each tap the mean of the 2x2 texels around its point, weights 1-2-1 x 1-2-1 /
@@ -12,13 +13,6 @@ override TENT: bool = false;
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var ao_in: texture_2d<f32>;
 @group(0) @binding(2) var ao_out: texture_storage_2d<r32float, write>;
-
-const TENT_OFFSETS: array<vec2<i32>, 9> = array<vec2<i32>, 9>(
-    vec2<i32>(-2, -2), vec2<i32>(0, -2), vec2<i32>(2, -2),
-    vec2<i32>(-2, 0), vec2<i32>(0, 0), vec2<i32>(2, 0),
-    vec2<i32>(-2, 2), vec2<i32>(0, 2), vec2<i32>(2, 2),
-);
-const TENT_WEIGHTS: array<f32, 9> = array<f32, 9>(1.0, 2.0, 1.0, 2.0, 4.0, 2.0, 1.0, 2.0, 1.0);
 
 // Sum and count of the source texels in [lo, lo + 1]^2.
 fn block(lo: vec2<i32>) -> vec2<f32> {
@@ -44,10 +38,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var sum = 0.0;
         var total = 0.0;
         for (var i = 0; i < 9; i++) {
-            let b = block(2 * t + TENT_OFFSETS[i]);
+            let tap = vec2<i32>(i % 3, i / 3);
+            let b = block(2 * t + (tap - 1) * TENT_SPACING);
+            let w = TENT_WEIGHTS[tap.x] * TENT_WEIGHTS[tap.y];
             if b.y > 0.0 {
-                sum += TENT_WEIGHTS[i] * b.x / b.y;
-                total += TENT_WEIGHTS[i];
+                sum += w * b.x / b.y;
+                total += w;
             }
         }
         ao = sum / total;

@@ -1,7 +1,8 @@
 // Depth-aware separable blur at the AO's working resolution: 9 taps along one axis
-// (VERTICAL picks which), Gaussian weights (sigma = 2 pixels), each times
+// (VERTICAL picks which), Gaussian weights BLUR_WEIGHTS (sigma = 2 pixels), each times
 // exp(-(distance from the centre's tangent plane / (PLANE_TOLERANCE x depth))^2), so AO
 // does not cross depth edges (edge-stopping on view-space depth). Sky taps are skipped.
+// CPU mirror: src/reference.rs, `blur`.
 
 override VERTICAL: bool = false;
 
@@ -9,9 +10,6 @@ override VERTICAL: bool = false;
 @group(0) @binding(1) var prepared_in: texture_2d<f32>;
 @group(0) @binding(2) var ao_in: texture_2d<f32>;
 @group(0) @binding(3) var ao_out: texture_storage_2d<r32float, write>;
-
-// exp(-k^2 / 8) for k = 0..4: tap weights fixed at compile time, not per pixel.
-const GAUSS: array<f32, 5> = array<f32, 5>(1.0, 0.8824969, 0.6065307, 0.3246525, 0.1353353);
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -36,7 +34,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let z = abs(dot(view_position(vec2<f32>(q) + 0.5, s.x) - pos, centre.yzw)) / (PLANE_TOLERANCE * centre.x);
-            let w = GAUSS[abs(k)] * exp(-z * z);
+            let w = BLUR_WEIGHTS[abs(k)] * exp(-z * z);
             sum += w * textureLoad(ao_in, q, 0).x;
             total += w;
         }

@@ -698,3 +698,87 @@ pub fn upsample(
     }
     out
 }
+
+/// One axis of the depth-aware blur at working resolution (`f` the working frame,
+/// `prepared` its prepared buffer); mirrors shaders/blur.wgsl.
+pub fn blur(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], vertical: bool) -> Vec<f32> {
+    use crate::shader::{BLUR_WEIGHTS, PLANE_TOLERANCE};
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
+    let mut out = Vec::with_capacity(ao.len());
+    for y in 0..h {
+        for x in 0..w {
+            let c = prepared[at([x, y])];
+            let mut a = ao[at([x, y])];
+            if c.x > 0.0 {
+                let pos = f.view_position(centre([x, y]), c.x);
+                let n = Vec3::new(c.y, c.z, c.w);
+                let (mut sum, mut total) = (a, 1.0);
+                for k in -4i32..=4 {
+                    let q = if vertical { [x, y + k] } else { [x + k, y] };
+                    if k == 0 || q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h {
+                        continue;
+                    }
+                    let s = prepared[at(q)];
+                    if s.x <= 0.0 {
+                        continue;
+                    }
+                    let z = (f.view_position(centre(q), s.x) - pos).dot(n).abs()
+                        / (PLANE_TOLERANCE * c.x);
+                    let wgt = BLUR_WEIGHTS[k.unsigned_abs() as usize] * (-z * z).exp();
+                    sum += wgt * ao[at(q)];
+                    total += wgt;
+                }
+                a = sum / total;
+            }
+            out.push(a);
+        }
+    }
+    out
+}
+
+/// Seed 003's box (`tent` false) or tent AO downsample, `size` → `ceil(size / 2)`;
+/// mirrors shaders/ao_downsample.wgsl.
+pub fn ao_downsample(tent: bool, size: [u32; 2], ao: &[f32]) -> ([u32; 2], Vec<f32>) {
+    use crate::shader::{TENT_SPACING, TENT_WEIGHTS};
+    let (w, h) = (size[0] as i32, size[1] as i32);
+    // Sum and count of the texels in [lo, lo + 1]².
+    let block = |lo: [i32; 2]| {
+        let mut acc = (0.0f32, 0.0f32);
+        for i in 0..4 {
+            let q = [lo[0] + (i & 1), lo[1] + (i >> 1)];
+            if q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h {
+                acc.0 += ao[(q[1] * w + q[0]) as usize];
+                acc.1 += 1.0;
+            }
+        }
+        acc
+    };
+    let dst = size.map(|s| s.div_ceil(2));
+    let mut out = Vec::with_capacity((dst[0] * dst[1]) as usize);
+    for ty in 0..dst[1] as i32 {
+        for tx in 0..dst[0] as i32 {
+            let t = [2 * tx, 2 * ty];
+            if !tent {
+                let b = block(t);
+                out.push(b.0 / b.1);
+                continue;
+            }
+            let (mut sum, mut total) = (0.0, 0.0);
+            for i in 0..9 {
+                let tap = [i % 3, i / 3];
+                let b = block([
+                    t[0] + (tap[0] - 1) * TENT_SPACING,
+                    t[1] + (tap[1] - 1) * TENT_SPACING,
+                ]);
+                let wgt = TENT_WEIGHTS[tap[0] as usize] * TENT_WEIGHTS[tap[1] as usize];
+                if b.1 > 0.0 {
+                    sum += wgt * b.0 / b.1;
+                    total += wgt;
+                }
+            }
+            out.push(sum / total);
+        }
+    }
+    (dst, out)
+}

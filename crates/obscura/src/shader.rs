@@ -28,6 +28,16 @@ pub const PLANE_TOLERANCE: f32 = 0.02;
 /// pyramid min/max) span more than this fraction of its depth as an edge.
 pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
 
+/// Tap weights of the depth-aware blur (shaders/blur.wgsl), `exp(-k² / 8)` for tap
+/// distance k = 0..4: a Gaussian of σ = 2 pixels, fixed at compile time (a unit test
+/// checks the values against the formula).
+pub const BLUR_WEIGHTS: [f32; 5] = [1.0, 0.882_496_9, 0.606_530_7, 0.324_652_5, 0.135_335_3];
+/// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
+/// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
+pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
+/// Texel distance between the tent filter's taps.
+pub const TENT_SPACING: i32 = 2;
+
 /// Where the first pyramid level reads linear depth from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PyramidSource {
@@ -374,9 +384,23 @@ pub fn prelude() -> String {
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\
          const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
+         const BLUR_WEIGHTS: array<f32, 5> = array<f32, 5>({});\n\
+         const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
+         const TENT_SPACING: i32 = {TENT_SPACING};\n\
          {}",
+        wgsl_floats(&BLUR_WEIGHTS),
+        wgsl_floats(&TENT_WEIGHTS),
         FrameUniforms::wgsl()
     )
+}
+
+/// `a, b, c` with every value spelled as a WGSL float literal.
+fn wgsl_floats(values: &[f32]) -> String {
+    values
+        .iter()
+        .map(|v| format!("{v:?}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Workgroups needed to cover `size` pixels.
@@ -385,4 +409,17 @@ pub fn dispatch_size(size: [u32; 2]) -> (u32, u32) {
         size[0].div_ceil(WORKGROUP_SIZE),
         size[1].div_ceil(WORKGROUP_SIZE),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blur_weights_are_the_stated_gaussian() {
+        for (k, w) in BLUR_WEIGHTS.iter().enumerate() {
+            let want = (-((k * k) as f32) / 8.0).exp();
+            assert!((w - want).abs() < 1e-6, "tap {k}: {w} vs {want}");
+        }
+    }
 }
