@@ -124,7 +124,7 @@ fn gltf_mesh(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
     }
     let unchecked =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
-    check_accessor_indices(unchecked.document.as_json()).map_err(err)?;
+    check_accessors(unchecked.document.as_json()).map_err(err)?;
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(e.to_string()))?;
     let buffers = gltf::import_buffers(&gltf.document, path.parent(), gltf.blob.clone())
         .map_err(|e| err(e.to_string()))?;
@@ -177,14 +177,74 @@ fn gltf_mesh(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
     Ok(mesh)
 }
 
-/// Every accessor a mesh primitive names exists.
-fn check_accessor_indices(root: &gltf::json::Root) -> Result<(), String> {
+/// Every accessor a mesh primitive names exists, and those the reader decodes are what it
+/// assumes, so the gltf crate's assertions never fire (a long fuzz run hit three: a
+/// POSITION accessor that is not VEC3 of f32, indices of a float type, and a zero count):
+/// POSITION is VEC3 f32, indices are SCALAR u8/u16/u32, counts are at least 1, strides at
+/// least an element, and the data lies inside its buffer view.
+fn check_accessors(root: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::accessor::{ComponentType as C, GenericComponentType, Type};
+    use gltf::json::mesh::Semantic;
+    use gltf::json::validation::Checked;
     let n = root.accessors.len();
     for (m, mesh) in root.meshes.iter().enumerate() {
         for p in &mesh.primitives {
             let named = p.attributes.values().chain(p.indices.as_ref());
             if let Some(bad) = named.map(|i| i.value()).find(|&i| i >= n) {
                 return Err(format!("mesh {m} names accessor {bad} of {n}"));
+            }
+            let position = p
+                .attributes
+                .iter()
+                .filter(|(s, _)| **s == Checked::Valid(Semantic::Positions))
+                .map(|(_, i)| (i.value(), true));
+            let indices = p.indices.iter().map(|i| (i.value(), false));
+            for (i, is_position) in position.chain(indices) {
+                let a = &root.accessors[i];
+                let component = match a.component_type {
+                    Checked::Valid(GenericComponentType(c)) => Some(c),
+                    Checked::Invalid => None,
+                };
+                let elem: u64 = match (is_position, a.type_, component) {
+                    (true, Checked::Valid(Type::Vec3), Some(C::F32)) => 12,
+                    (false, Checked::Valid(Type::Scalar), Some(C::U8)) => 1,
+                    (false, Checked::Valid(Type::Scalar), Some(C::U16)) => 2,
+                    (false, Checked::Valid(Type::Scalar), Some(C::U32)) => 4,
+                    (true, t, c) => {
+                        return Err(format!(
+                            "mesh {m}: POSITION accessor {i} is {t:?} of {c:?}, not VEC3 of f32"
+                        ))
+                    }
+                    (false, t, c) => {
+                        return Err(format!(
+                            "mesh {m}: index accessor {i} is {t:?} of {c:?}, not SCALAR u8/u16/u32"
+                        ))
+                    }
+                };
+                let count = a.count.0;
+                if count == 0 {
+                    return Err(format!("mesh {m}: accessor {i} has count 0"));
+                }
+                let (Some(v), None) = (a.buffer_view, &a.sparse) else {
+                    continue;
+                };
+                let view = root
+                    .buffer_views
+                    .get(v.value())
+                    .ok_or_else(|| format!("accessor {i} names buffer view {}", v.value()))?;
+                let stride = view.byte_stride.map_or(elem, |s| s.0 as u64);
+                let end = (stride >= elem)
+                    .then(|| stride.checked_mul(count - 1))
+                    .flatten()
+                    .and_then(|e| e.checked_add(elem))
+                    .and_then(|e| e.checked_add(a.byte_offset.map_or(0, |o| o.0)));
+                if end.is_none_or(|e| e > view.byte_length.0) {
+                    return Err(format!(
+                        "mesh {m}: accessor {i} ({count} elements, stride {stride}) does not \
+                         fit its {}-byte buffer view",
+                        view.byte_length.0
+                    ));
+                }
             }
         }
     }

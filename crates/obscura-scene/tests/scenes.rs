@@ -320,6 +320,7 @@ fn fuzz_mesh_loader() {
                 ),
             }
         }
+        eprintln!("fuzz {name}: {ok} loaded, {err} refused, no panic");
         assert!(ok > 0 && err > 0, "{name}: {ok} loaded, {err} refused");
     }
     std::fs::remove_dir_all(dir).unwrap();

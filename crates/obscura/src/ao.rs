@@ -11,13 +11,14 @@
 //!                       ─▶ [blur | box/tent] ─▶ upsample (full res)
 //! ```
 //!
-//! Estimators that read the depth pyramid (SAO) get its levels built between prepare and
-//! the AO pass: `pyramid_from_full` (or `_from_layers`) then one `pyramid` pass per level.
+//! Estimators that read the depth pyramid (SAO), and the classified upsampler, get its levels
+//! built between prepare and the AO pass: `pyramid_from_full` (or `_from_layers`), then one
+//! `pyramid_levels` pass per four further levels.
 
 use crate::layout::layer_size;
 use crate::shader::{
     dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, LINEAR_DEPTH_FORMAT,
-    PREPARED_FORMAT, PYRAMID_FORMAT,
+    PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -89,7 +90,7 @@ enum Grid {
     Level(u32),
     /// Work layer texels × N² layers.
     Layers,
-    /// One dispatch per pyramid mip after the first (each reads the one before).
+    /// One dispatch per four pyramid mips after the first (each reads the mip above them).
     PyramidMips,
     /// Pyramid mip 0.
     PyramidBase,
@@ -167,10 +168,12 @@ fn plan_steps(o: &AoOptions) -> (PrepareStore, Vec<Step>) {
             FrameAt::Full,
             Grid::PyramidBase,
         ));
-        let mips = Pass::Pyramid {
-            source: PyramidSource::Mip,
-        };
-        steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
+        steps.push(step(
+            Pass::PyramidLevels,
+            vec![],
+            FrameAt::Full,
+            Grid::PyramidMips,
+        ));
     }
     let first_downsample = if fused_down { 2 } else { 1 };
     for k in first_downsample..=work_level.max(up_level) {
@@ -495,6 +498,9 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, dim(source == PyramidSource::Layers)),
             storage_entry(2, PYRAMID_FORMAT, D2),
         ],
+        Pass::PyramidLevels => std::iter::once(texture_entry(1, UNFILTERED, D2))
+            .chain((2..2 + PYRAMID_LEVELS_PER_PASS).map(|b| storage_entry(b, PYRAMID_FORMAT, D2)))
+            .collect(),
         Pass::Downsample { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, PREPARED_FORMAT, D2),
@@ -934,6 +940,7 @@ impl Ao {
             .collect();
         let find = |r: Res| textures.iter().find(|t| t.0 == r);
         let mip_views = std::cell::Cell::new(0);
+        let placeholders = std::cell::Cell::new(0);
         let mip_view = |m: u32| {
             mip_views.set(mip_views.get() + 1);
             find(Res::Pyramid).map(|t| {
@@ -972,12 +979,36 @@ impl Ao {
                 FrameAt::Work => &self.work_uniforms,
             };
             if st.grid == Grid::PyramidMips {
-                for m in 1..pyramid_mips {
-                    if let (Some(from), Some(to)) = (mip_view(m - 1), mip_view(m)) {
-                        let bg = bind_group(device, c, buffer, &[(1, &from), (2, &to)]);
-                        let d = (1.max(pyramid_base.0 >> m), 1.max(pyramid_base.1 >> m));
-                        later.push((i, Some(bg), workgroups(d.0, d.1, 1)));
-                    }
+                // Groups of PYRAMID_LEVELS_PER_PASS mips, each read from the mip above the
+                // group; outputs past the last mip are 1×1 placeholders (kept alive by the
+                // bind group).
+                let per = PYRAMID_LEVELS_PER_PASS;
+                for m0 in (1..pyramid_mips).step_by(per as usize) {
+                    let Some(from) = mip_view(m0 - 1) else {
+                        continue;
+                    };
+                    let outs: Vec<wgpu::TextureView> = (m0..m0 + per)
+                        .filter_map(|m| {
+                            if m < pyramid_mips {
+                                return mip_view(m);
+                            }
+                            placeholders.set(placeholders.get() + 1);
+                            let t = make_texture(
+                                device,
+                                "obscura pyramid placeholder",
+                                (1, 1),
+                                1,
+                                1,
+                                PYRAMID_FORMAT,
+                            );
+                            Some(t.create_view(&Default::default()))
+                        })
+                        .collect();
+                    let mut views = vec![(1, &from)];
+                    views.extend(outs.iter().zip(2..).map(|(v, b)| (b, v)));
+                    let bg = bind_group(device, c, buffer, &views);
+                    let d = (1.max(pyramid_base.0 >> m0), 1.max(pyramid_base.1 >> m0));
+                    later.push((i, Some(bg), workgroups(d.0, d.1, 1)));
                 }
                 continue;
             }
@@ -1011,8 +1042,8 @@ impl Ao {
             PrepareStore::Layers => grid(Grid::Layers),
             PrepareStore::Down { .. } => grid(Grid::Level(1)),
         };
-        self.created.textures += textures.len() as u32;
-        self.created.texture_views += textures.len() as u32 + mip_views.get();
+        self.created.textures += textures.len() as u32 + placeholders.get();
+        self.created.texture_views += textures.len() as u32 + mip_views.get() + placeholders.get();
         self.created.bind_groups += later.iter().filter(|l| l.1.is_some()).count() as u32;
         self.sized = Some(SizedResources {
             size,

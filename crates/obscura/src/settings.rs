@@ -215,9 +215,11 @@ pub enum Upsampler {
     /// Joint bilateral (Yang et al., "Geometry-Aware Framebuffer Level of Detail", 2008;
     /// seed 002): bilinear weights × depth weight (distance from the tangent plane relative
     /// to depth) × normal agreement. The default: the lowest error against ray-traced AO,
-    /// over the image and in the discontinuity band, at half and quarter resolution with
-    /// every rule (docs/mixed-resolution.md). Nearest-depth and classified keep edges as
-    /// well but pass the low-resolution noise through unaveraged.
+    /// over the image and in the discontinuity band, with every rule at half resolution and
+    /// in the single pass at quarter resolution (docs/mixed-resolution.md; deinterleaved at
+    /// quarter resolution bilinear is within 0.001 of it). Costs the most after classified:
+    /// it needs every full-resolution pixel's normal (BENCHMARKS.md). Nearest-depth and
+    /// classified keep edges as well but pass the low-resolution noise through unaveraged.
     #[default]
     Bilateral,
 }
@@ -293,10 +295,13 @@ pub struct AoOptions {
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
     /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved2`, the best
-    /// quality per millisecond measured (BENCHMARKS.md, docs/quality.md): never slower than
-    /// the single pass, 1.4–2× faster at large radii, error within 1–2% of it.
-    /// `Deinterleaved4` is faster still at large on-screen radii (2–2.9×) but loses
-    /// detail when the radius spans few pixels.
+    /// quality per millisecond measured at full resolution (BENCHMARKS.md,
+    /// docs/quality.md): never slower than the single pass, 1.4–2× faster at large radii,
+    /// error within 1–2% of it. `Deinterleaved4` is faster still at large on-screen radii
+    /// (2–2.9×) but loses detail when the radius spans few pixels. Below full resolution
+    /// prefer `Randomized`: a layer's samples are then N low-resolution texels (2N pixels)
+    /// apart and the error rises (half resolution, bilateral: mean RMSE 0.095 against
+    /// 0.079, docs/mixed-resolution.md) for 7% less time.
     pub mode: AoMode,
     /// Fuse the passes around the AO pass (true, default): in deinterleaved modes the
     /// prepare pass writes the layers and the AO pass writes full resolution directly;
@@ -317,8 +322,9 @@ pub struct AoOptions {
     /// centre of its low-resolution texel (true, default), so positions rebuilt at texel
     /// centres lie on the surface; the rule still picks one real sample (depth and normal
     /// of one surface, never an average). False: the picked depth as is, placed at the
-    /// texel centre, which bends tilted surfaces by up to a pixel's slope and darkens them
-    /// (Cornell box at half resolution: RMSE 0.053 against 0.042, docs/mixed-resolution.md).
+    /// texel centre, which bends tilted surfaces by up to a pixel's slope, so flat surfaces
+    /// read as bumpy and occlude themselves (test `recentred_levels_lie_on_the_surface`:
+    /// relative depth error below 1e-4 recentred, above 1e-3 not).
     pub recentre: bool,
     /// Upsampler below full resolution (and after box/tent denoising). Default `Bilateral`.
     pub upsample: Upsampler,

@@ -46,9 +46,11 @@ pub enum PyramidSource {
     Full,
     /// The deinterleaved prepared layers (fused deinterleaved modes have no full buffer).
     Layers,
-    /// The previous pyramid level.
-    Mip,
 }
+
+/// Pyramid levels one pass of [`Pass::PyramidLevels`] writes: WebGPU's default limit of
+/// storage textures per shader stage.
+pub const PYRAMID_LEVELS_PER_PASS: u32 = 4;
 
 /// Where the prepare pass writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,8 +98,10 @@ pub enum Pass {
     Deinterleave,
     /// AO layers → full resolution (unfused merge).
     Interleave,
-    /// One level of the min/max depth pyramid (also SAO's depth mips).
+    /// The first level of the min/max depth pyramid (also SAO's depth mips).
     Pyramid { source: PyramidSource },
+    /// The next [`PYRAMID_LEVELS_PER_PASS`] levels of the pyramid from the one above.
+    PyramidLevels,
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
     /// Low-resolution AO → full resolution.
@@ -135,13 +139,10 @@ impl Pass {
             }
         }
         v.extend([Pass::Deinterleave, Pass::Interleave]);
-        for source in [
-            PyramidSource::Full,
-            PyramidSource::Layers,
-            PyramidSource::Mip,
-        ] {
+        for source in [PyramidSource::Full, PyramidSource::Layers] {
             v.push(Pass::Pyramid { source });
         }
+        v.push(Pass::PyramidLevels);
         v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
         v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
         for b in [false, true] {
@@ -177,8 +178,8 @@ impl Pass {
             Pass::Pyramid { source } => match source {
                 PyramidSource::Full => "pyramid_from_full",
                 PyramidSource::Layers => "pyramid_from_layers",
-                PyramidSource::Mip => "pyramid",
             },
+            Pass::PyramidLevels => "pyramid_levels",
             Pass::Downsample { rule, .. } => match rule {
                 DepthDownsample::Max => "downsample_max",
                 DepthDownsample::Min => "downsample_min",
@@ -270,10 +271,10 @@ impl Pass {
                 match source {
                     PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
                     PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
-                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
                 },
                 include_str!("../shaders/pyramid.wgsl"),
             ],
+            Pass::PyramidLevels => vec![include_str!("../shaders/pyramid_levels.wgsl")],
             Pass::Downsample { .. } => {
                 vec![DOWNSAMPLE_RULE, include_str!("../shaders/downsample.wgsl")]
             }
@@ -349,7 +350,7 @@ impl Pass {
             | Pass::Pyramid {
                 source: PyramidSource::Layers,
             } => vec![split],
-            Pass::Pyramid { .. } => vec![],
+            Pass::Pyramid { .. } | Pass::PyramidLevels => vec![],
             Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
             Pass::Downsample { rule: r, level } => rule(r, level),
             Pass::Blur { vertical } => vec![("VERTICAL", vertical as u32 as f64)],

@@ -337,6 +337,7 @@ mod tests {
                 Err(_) => refused += 1,
             }
         }
+        eprintln!("fuzz settings: {ok} accepted, {refused} refused, no panic");
         assert!(ok > 0 && refused > 0, "{ok} accepted, {refused} refused");
     }
 }

@@ -438,7 +438,9 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
         radius: 3.0,
         ..Default::default()
     };
-    for (w, h) in [(W, H), (97, 61), (1, 1), (2, 7)] {
+    // 134×70 and 301×177: odd levels whose orphan row and column fall in the next
+    // workgroup's tile, and more than one pass of four levels.
+    for (w, h) in [(W, H), (97, 61), (1, 1), (2, 7), (134, 70), (301, 177)] {
         let p = persp(w, h);
         let raw = test_scene(&p, w, h);
         let sao = AoOptions {
