@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 use glam::Vec3;
 use obscura::{
     layout, Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext,
-    Preset, Resolution, Upsampler,
+    Preset, PyramidBuild, Resolution, Upsampler,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
@@ -159,6 +159,22 @@ pub struct ResolutionArgs {
     /// Filtering at the working resolution: none, blur (depth-aware), box, tent.
     #[arg(long, value_parser = parse_denoise, default_value = "none")]
     pub denoise: Denoise,
+    /// Depth pyramid (SAO, classified upsampler): auto (four levels per pass on GPUs, one
+    /// on CPU adapters), one (one level per pass) or four (four levels per pass).
+    #[arg(long, value_parser = parse_pyramid, default_value = "auto")]
+    pub pyramid: PyramidBuild,
+}
+
+pub fn parse_pyramid(s: &str) -> Result<PyramidBuild, String> {
+    named(
+        &PyramidBuild::ALL,
+        |p| match p {
+            PyramidBuild::Auto => "auto",
+            PyramidBuild::OneLevelPerPass => "one",
+            PyramidBuild::FourLevelsPerPass => "four",
+        },
+        s,
+    )
 }
 
 impl ResolutionArgs {
@@ -169,6 +185,7 @@ impl ResolutionArgs {
             downsample: self.downsample,
             upsample: self.upsample,
             denoise: self.denoise,
+            pyramid: self.pyramid,
             ..o
         }
     }

@@ -135,18 +135,14 @@ fn main(
     }
     tile1[lid.y * WG_SIZE + lid.x] = v;
     workgroupBarrier();
-    // Levels 2-4 from the tile above: extents WG_SIZE / 2, / 4, / 8.
+    // Levels 2-4 from the tile above: extents WG_SIZE / 2, / 4, / 8. Each level reads only
+    // the tile of the level above and writes its own, so one barrier per level suffices.
     for (var j = 2u; j <= 4u; j++) {
         let extent = i32(WG_SIZE) >> (j - 1u);
         let t = vec2<i32>(wg.xy) * extent + l;
-        var w = vec3<f32>(0.0);
-        let inside = all(l < vec2<i32>(extent)) && all(t < level_size(j));
-        if inside {
-            w = from_children(j, t, vec2<i32>(wg.xy) * (2 * extent), 2 * extent);
+        if all(l < vec2<i32>(extent)) && all(t < level_size(j)) {
+            let w = from_children(j, t, vec2<i32>(wg.xy) * (2 * extent), 2 * extent);
             store(j, t, w);
-        }
-        workgroupBarrier();
-        if all(l < vec2<i32>(extent)) {
             let i = u32(l.y * extent + l.x);
             if j == 2u {
                 tile2[i] = w;

@@ -13,7 +13,8 @@
 //!
 //! Estimators that read the depth pyramid (SAO), and the classified upsampler, get its levels
 //! built between prepare and the AO pass: `pyramid_from_full` (or `_from_layers`), then one
-//! `pyramid_levels` pass per four further levels.
+//! `pyramid_levels` pass per four further levels on GPUs, one `pyramid` pass per level on CPU
+//! adapters ([`crate::PyramidBuild`]).
 
 use crate::layout::layer_size;
 use crate::shader::{
@@ -90,7 +91,8 @@ enum Grid {
     Level(u32),
     /// Work layer texels × N² layers.
     Layers,
-    /// One dispatch per four pyramid mips after the first (each reads the mip above them).
+    /// One dispatch per pyramid mip after the first, or per four of them (each reads the
+    /// mip above).
     PyramidMips,
     /// Pyramid mip 0.
     PyramidBase,
@@ -117,8 +119,9 @@ fn prepare_targets(store: PrepareStore) -> Vec<(u32, Res)> {
     }
 }
 
-/// How the prepare pass stores for `options`, and the passes after it, in order.
-fn plan_steps(o: &AoOptions) -> (PrepareStore, Vec<Step>) {
+/// How the prepare pass stores for `options`, and the passes after it, in order;
+/// `pyramid_levels`: levels per pass of the pyramid after its first (1 or 4).
+fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     let n = o.mode.split();
     let work_level = o.resolution.factor().ilog2();
     let up_level = o.upsample_factor().ilog2();
@@ -168,12 +171,14 @@ fn plan_steps(o: &AoOptions) -> (PrepareStore, Vec<Step>) {
             FrameAt::Full,
             Grid::PyramidBase,
         ));
-        steps.push(step(
-            Pass::PyramidLevels,
-            vec![],
-            FrameAt::Full,
-            Grid::PyramidMips,
-        ));
+        let mips = if pyramid_levels == PYRAMID_LEVELS_PER_PASS {
+            Pass::PyramidLevels
+        } else {
+            Pass::Pyramid {
+                source: PyramidSource::Mip,
+            }
+        };
+        steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
     }
     let first_downsample = if fused_down { 2 } else { 1 };
     for k in first_downsample..=work_level.max(up_level) {
@@ -677,7 +682,10 @@ impl Ao {
     pub fn new(device: &wgpu::Device, options: AoOptions) -> Result<Self> {
         options.validate()?;
         let scope = ErrorScope::push(device);
-        let (prepare_store, steps) = plan_steps(&options);
+        let pyramid_levels = options
+            .pyramid
+            .levels_per_pass(device.adapter_info().device_type);
+        let (prepare_store, steps) = plan_steps(&options, pyramid_levels);
         let prepare = [DepthBinding::Depth, DepthBinding::Float].map(|depth| {
             [false, true].map(|reconstruct| {
                 compile(
@@ -979,10 +987,14 @@ impl Ao {
                 FrameAt::Work => &self.work_uniforms,
             };
             if st.grid == Grid::PyramidMips {
-                // Groups of PYRAMID_LEVELS_PER_PASS mips, each read from the mip above the
-                // group; outputs past the last mip are 1×1 placeholders (kept alive by the
-                // bind group).
-                let per = PYRAMID_LEVELS_PER_PASS;
+                // Groups of 1 or PYRAMID_LEVELS_PER_PASS mips, each read from the mip above
+                // the group; outputs past the last mip are 1×1 placeholders (kept alive by
+                // the bind group).
+                let per = if st.pass == Pass::PyramidLevels {
+                    PYRAMID_LEVELS_PER_PASS
+                } else {
+                    1
+                };
                 for m0 in (1..pyramid_mips).step_by(per as usize) {
                     let Some(from) = mip_view(m0 - 1) else {
                         continue;

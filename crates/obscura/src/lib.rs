@@ -43,5 +43,6 @@ pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
 pub use settings::{
-    AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Preset, Resolution, Upsampler,
+    AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Preset, PyramidBuild,
+    Resolution, Upsampler,
 };

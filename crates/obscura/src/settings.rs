@@ -281,6 +281,40 @@ impl Denoise {
     }
 }
 
+/// How the depth pyramid's levels after the first are built (SAO and the classified
+/// upsampler read it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PyramidBuild {
+    /// Four levels per pass on GPUs, one per pass on CPU adapters (the default).
+    #[default]
+    Auto,
+    /// One pass per level, each reading the level above: the fastest on CPU drivers,
+    /// where workgroup barriers are expensive (lavapipe, 1920×1080 at half resolution:
+    /// 9 ms for the 9 levels after the first, against 55 ms in three passes, BENCHMARKS.md).
+    OneLevelPerPass,
+    /// Four levels per pass (WebGPU's default limit of storage textures per stage),
+    /// through workgroup memory: a quarter of the passes and barriers, as GPUs prefer.
+    FourLevelsPerPass,
+}
+
+impl PyramidBuild {
+    /// Every choice.
+    pub const ALL: [PyramidBuild; 3] = [
+        PyramidBuild::Auto,
+        PyramidBuild::OneLevelPerPass,
+        PyramidBuild::FourLevelsPerPass,
+    ];
+
+    /// Levels per pass on an adapter of `device_type`.
+    pub fn levels_per_pass(self, device_type: wgpu::DeviceType) -> u32 {
+        match self {
+            PyramidBuild::Auto if device_type == wgpu::DeviceType::Cpu => 1,
+            PyramidBuild::Auto | PyramidBuild::FourLevelsPerPass => 4,
+            PyramidBuild::OneLevelPerPass => 1,
+        }
+    }
+}
+
 /// Creation-time choices: compiled into the shaders as WGSL `override` constants, because
 /// constant loop bounds are markedly faster than uniforms on CPU drivers (see docs/design.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -330,6 +364,8 @@ pub struct AoOptions {
     pub upsample: Upsampler,
     /// Filtering at the working resolution. Default `None`.
     pub denoise: Denoise,
+    /// How the depth pyramid is built. Default `Auto`.
+    pub pyramid: PyramidBuild,
 }
 
 impl Default for AoOptions {
@@ -347,6 +383,7 @@ impl Default for AoOptions {
             recentre: true,
             upsample: Upsampler::Bilateral,
             denoise: Denoise::None,
+            pyramid: PyramidBuild::Auto,
         }
     }
 }

@@ -46,6 +46,8 @@ pub enum PyramidSource {
     Full,
     /// The deinterleaved prepared layers (fused deinterleaved modes have no full buffer).
     Layers,
+    /// The previous pyramid level (one level per pass).
+    Mip,
 }
 
 /// Pyramid levels one pass of [`Pass::PyramidLevels`] writes: WebGPU's default limit of
@@ -98,7 +100,7 @@ pub enum Pass {
     Deinterleave,
     /// AO layers → full resolution (unfused merge).
     Interleave,
-    /// The first level of the min/max depth pyramid (also SAO's depth mips).
+    /// One level of the min/max depth pyramid (also SAO's depth mips).
     Pyramid { source: PyramidSource },
     /// The next [`PYRAMID_LEVELS_PER_PASS`] levels of the pyramid from the one above.
     PyramidLevels,
@@ -139,7 +141,11 @@ impl Pass {
             }
         }
         v.extend([Pass::Deinterleave, Pass::Interleave]);
-        for source in [PyramidSource::Full, PyramidSource::Layers] {
+        for source in [
+            PyramidSource::Full,
+            PyramidSource::Layers,
+            PyramidSource::Mip,
+        ] {
             v.push(Pass::Pyramid { source });
         }
         v.push(Pass::PyramidLevels);
@@ -178,6 +184,7 @@ impl Pass {
             Pass::Pyramid { source } => match source {
                 PyramidSource::Full => "pyramid_from_full",
                 PyramidSource::Layers => "pyramid_from_layers",
+                PyramidSource::Mip => "pyramid",
             },
             Pass::PyramidLevels => "pyramid_levels",
             Pass::Downsample { rule, .. } => match rule {
@@ -271,6 +278,7 @@ impl Pass {
                 match source {
                     PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
                     PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
+                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
                 },
                 include_str!("../shaders/pyramid.wgsl"),
             ],

@@ -257,6 +257,7 @@ mod tests {
                 fused: pick(2) == 0,
                 jitter: pick(2) == 0,
                 recentre: pick(2) == 0,
+                pyramid: crate::PyramidBuild::ALL[pick(3)],
             };
             // Caller normals: none, view space, or world space with a rotation whose
             // entries may be awkward too.

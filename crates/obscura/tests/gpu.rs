@@ -4,8 +4,8 @@
 use glam::{Vec3, Vec4};
 use obscura::{
     layout, reference, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention,
-    DepthDownsample, Error, Estimator, GpuContext, Projection, Resolution, ResourceCount, Timing,
-    Upsampler, Viewport,
+    DepthDownsample, Error, Estimator, GpuContext, Projection, PyramidBuild, Resolution,
+    ResourceCount, Timing, Upsampler, Viewport,
 };
 use std::sync::{Mutex, OnceLock};
 
@@ -428,7 +428,8 @@ fn every_mode_matches_cpu_reference_on_odd_sizes() {
     check_modes_against_reference(o, &test_scene(&o, W, H), "orthographic");
 }
 
-/// The depth pyramid equals the CPU's bit for bit in every mode (it only selects values),
+/// The depth pyramid equals the CPU's bit for bit in every mode, built one level per pass
+/// or four (it only selects values),
 /// on odd sizes; and SAO really reads it: the CPU SAO that ignores the pyramid differs from
 /// the GPU's on many pixels while the one that reads it matches (every_mode_matches_...).
 #[test]
@@ -460,9 +461,14 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
         let cpu = reference::pyramid([w, h], &full.prepared);
         let base = [1.max(w >> 1), 1.max(h >> 1)];
         assert_eq!(cpu.len() as u32, base[0].max(base[1]).ilog2() + 1);
+        let builds = [
+            PyramidBuild::OneLevelPerPass,
+            PyramidBuild::FourLevelsPerPass,
+        ];
         for options in all_variants()
             .into_iter()
             .filter(|o| o.estimator == Estimator::Sao)
+            .flat_map(|o| builds.map(|pyramid| AoOptions { pyramid, ..o }))
         {
             let r = run_ao(
                 &raw,

@@ -90,6 +90,13 @@ fn every_option_runs_within_webgpu_default_limits() {
             resolution: Resolution::Half,
             ..Default::default()
         });
+        all.push(AoOptions {
+            estimator,
+            upsample: Upsampler::Classified,
+            resolution: Resolution::Half,
+            pyramid: obscura::PyramidBuild::FourLevelsPerPass,
+            ..Default::default()
+        });
     }
     for resolution in Resolution::ALL {
         for upsample in Upsampler::ALL {
