@@ -1,43 +1,25 @@
 //! A lost device (here destroyed on purpose) surfaces as typed errors from every entry
 //! point, never a panic. Its own binary: it destroys its device.
 
-use obscura::{
-    AdapterChoice, Ao, AoInput, AoOptions, AoParams, DepthConvention, Error, GpuContext, Projection,
-};
+use obscura::{Ao, AoInput, AoOptions, AoParams, Error, Projection};
+
+mod common;
 
 #[test]
 fn a_lost_device_gives_typed_errors() {
-    let c = GpuContext::with_choice(&AdapterChoice::from_env())
-        .unwrap_or_else(|e| panic!("this test needs a Vulkan adapter (lavapipe is enough): {e}"));
+    let c = common::context(None);
     let (w, h) = (16u32, 16u32);
-    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let tex = common::upload_r32(&c, &vec![2.0; (w * h) as usize], w, h);
     let view = tex.create_view(&Default::default());
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: Projection::Perspective {
+    let input = common::linear_input(
+        &view,
+        Projection::Perspective {
             fov_y: 1.0,
             aspect: 1.0,
             near: 0.1,
             far: 50.0,
         },
-        normals: None,
-        viewport: None,
-        output: None,
-    };
+    );
     let params = AoParams::default();
     let mut ao = Ao::new(&c.device, AoOptions::default()).unwrap();
     c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))

@@ -9,13 +9,12 @@ use obscura::{
 };
 use std::sync::{Mutex, OnceLock};
 
+mod common;
+use common::linear_input;
+
 fn ctx() -> &'static GpuContext {
     static CTX: OnceLock<GpuContext> = OnceLock::new();
-    CTX.get_or_init(|| {
-        GpuContext::new().unwrap_or_else(|e| {
-            panic!("these tests need a Vulkan adapter (lavapipe is enough): {e}")
-        })
-    })
+    CTX.get_or_init(|| common::context(None))
 }
 
 /// The GPU is shared; tests take turns so error scopes and uniforms never interleave.
@@ -37,44 +36,7 @@ fn persp(w: u32, h: u32) -> Projection {
 }
 
 fn upload_r32(data: &[f32], w: u32, h: u32) -> wgpu::Texture {
-    let c = ctx();
-    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("test depth"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    c.queue.write_texture(
-        tex.as_image_copy(),
-        bytemuck::cast_slice(data),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 4),
-            rows_per_image: Some(h),
-        },
-        tex.size(),
-    );
-    tex
-}
-
-/// Linear view depth in `view`, normals reconstructed, the whole texture.
-fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput<'_> {
-    AoInput {
-        depth: view,
-        convention: DepthConvention::LinearView,
-        projection,
-        normals: None,
-        viewport: None,
-        output: None,
-    }
+    common::upload_r32(ctx(), data, w, h)
 }
 
 struct Run {

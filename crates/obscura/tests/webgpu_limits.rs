@@ -3,15 +3,16 @@
 //! own device.
 
 use obscura::{
-    AdapterChoice, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention,
-    DepthDownsample, Estimator, GpuContext, Projection, Resolution, Upsampler,
+    Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Projection, Resolution,
+    Upsampler,
 };
+
+mod common;
 
 #[test]
 fn every_option_runs_within_webgpu_default_limits() {
     let limits = wgpu::Limits::default();
-    let c = GpuContext::with_limits(&AdapterChoice::from_env(), Some(limits.clone()))
-        .unwrap_or_else(|e| panic!("this test needs a Vulkan adapter (lavapipe is enough): {e}"));
+    let c = common::context(Some(limits.clone()));
     assert_eq!(
         c.device.limits().max_storage_textures_per_shader_stage,
         limits.max_storage_textures_per_shader_stage
@@ -28,44 +29,17 @@ fn every_option_runs_within_webgpu_default_limits() {
             }
         })
         .collect();
-    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    c.queue.write_texture(
-        tex.as_image_copy(),
-        bytemuck::cast_slice(&depth),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 4),
-            rows_per_image: Some(h),
-        },
-        tex.size(),
-    );
+    let tex = common::upload_r32(&c, &depth, w, h);
     let view = tex.create_view(&Default::default());
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: Projection::Perspective {
+    let input = common::linear_input(
+        &view,
+        Projection::Perspective {
             fov_y: 1.0,
             aspect: w as f32 / h as f32,
             near: 0.1,
             far: 50.0,
         },
-        normals: None,
-        viewport: None,
-        output: None,
-    };
+    );
     let params = AoParams {
         radius: 0.5,
         ..Default::default()
