@@ -61,7 +61,11 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             total += 2.0 * h;
             let sd = sample_depth(q);
             if sd > 0.0 {
-                occupied += clamp(dc + h - max(sd, dc - h), 0.0, 2.0 * h);
+                // The solid behind the visible surface is SPHERE_THICKNESS radii deep
+                // (Loos & Sloan's thickness model), not infinite: a foreground object far
+                // in front of the sphere does not fill the chords behind it.
+                let back = sd + SPHERE_THICKNESS * frame.radius;
+                occupied += clamp(min(dc + h, back) - max(sd, dc - h), 0.0, 2.0 * h);
             }
         }
     }

@@ -359,7 +359,8 @@ pub fn sphere_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4], offset: f32) ->
             let h = rs * (1.0 - l2).sqrt();
             total += 2.0 * h;
             if sd > 0.0 {
-                occupied += (dc + h - sd.max(dc - h)).clamp(0.0, 2.0 * h);
+                let back = sd + crate::shader::SPHERE_THICKNESS * f.radius;
+                occupied += ((dc + h).min(back) - sd.max(dc - h)).clamp(0.0, 2.0 * h);
             }
         }
     }

@@ -22,7 +22,9 @@ pub enum Estimator {
     /// Samples/pixel = directions × steps.
     Vo,
     /// Volumetric AO (Szirmay-Kalos et al. 2009): occupied fraction of a sphere of radius
-    /// R/2 centred R/2 along the normal. Samples/pixel = directions × steps.
+    /// R/2 centred R/2 along the normal. Samples/pixel = directions × steps. VO and VAO
+    /// take surfaces as 2R thick (`shader::SPHERE_THICKNESS`), so foreground objects do not
+    /// darken what lies far behind them.
     Vao,
     /// Scalable Ambient Obscurance (McGuire, Mara & Luebke, HPG 2012): `directions × steps`
     /// samples on a golden-angle spiral, each read from the level of the depth pyramid its

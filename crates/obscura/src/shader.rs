@@ -28,6 +28,13 @@ pub const PLANE_TOLERANCE: f32 = 0.02;
 /// pyramid min/max) span more than this fraction of its depth as an edge.
 pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
 
+/// VO and VAO (shaders/sphere.wgsl): the solid behind a visible surface is assumed this
+/// many AO radii deep (Loos & Sloan 2010's thickness model) instead of infinitely deep.
+/// Two radii, the sphere's diameter, chosen over all shared views among 1, 2 and ∞ radii:
+/// mean discontinuity-band RMSE against ray-traced AO 0.165 → 0.127 (VO) and 0.151 → 0.093
+/// (VAO), whole-image RMSE 0.147 → 0.150 (VO) and 0.113 → 0.098 (VAO).
+pub const SPHERE_THICKNESS: f32 = 2.0;
+
 /// Tap weights of the depth-aware blur (shaders/blur.wgsl), `exp(-k² / 8)` for tap
 /// distance k = 0..4: a Gaussian of σ = 2 pixels, fixed at compile time (a unit test
 /// checks the values against the formula).
@@ -393,6 +400,7 @@ pub fn prelude() -> String {
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\
          const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
+         const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
          const BLUR_WEIGHTS: array<f32, 5> = array<f32, 5>({});\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
