@@ -1181,8 +1181,15 @@ impl Ao {
 
     /// Validates the inputs, writes the frame uniforms and records the AO passes into
     /// `encoder`, in one compute pass with a debug group per pass. The result is
-    /// [`Ao::output`] once the encoder's commands have run. Record at most once per queue
-    /// submission (the uniforms are shared).
+    /// [`Ao::output`] (or [`AoInput::output`]) once the encoder's commands have run.
+    /// Record at most once per queue submission (the uniforms are shared).
+    ///
+    /// Creating resources (the first frame at a size, new input views) happens inside
+    /// out-of-memory and validation error scopes and comes back as a typed error. Errors
+    /// of the recorded commands themselves (a device lost mid-frame) reach the device's
+    /// uncaptured-error and device-lost handlers, as for any other pass of yours; a scope
+    /// per frame would cost every frame. [`crate::GpuContext::run`] turns them into typed
+    /// errors.
     pub fn record(
         &mut self,
         device: &wgpu::Device,
