@@ -8,7 +8,7 @@ use crate::output::{check_png_path, write_text};
 use crate::render::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use obscura::{Ao, AoMode, AoOptions, AoParams, GpuContext, Resolution, Timing};
+use obscura::{Ao, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,6 +22,9 @@ pub enum Compare {
     /// AO resolution full, half, quarter in the default layout, with the --downsample,
     /// --upsample and --denoise choices (full is the baseline).
     Resolutions,
+    /// Sample reuse in the chosen layout and resolution: no denoising (the baseline), the
+    /// spatial denoiser, and the denoiser with temporal accumulation (history 16).
+    Reuse,
 }
 
 #[derive(Debug, Args)]
@@ -70,6 +73,23 @@ struct Record {
 
 fn variants(base: AoOptions, compare: Compare) -> Vec<(String, AoOptions)> {
     let mut v = Vec::new();
+    if compare == Compare::Reuse {
+        for (name, denoise, history) in [
+            ("none", Denoise::None, 0),
+            ("spatial", Denoise::Spatial, 0),
+            ("spatial+temporal", Denoise::Spatial, 16),
+        ] {
+            v.push((
+                name.to_string(),
+                AoOptions {
+                    denoise,
+                    history,
+                    ..base
+                },
+            ));
+        }
+        return v;
+    }
     if compare == Compare::Resolutions {
         for resolution in Resolution::ALL {
             v.push((

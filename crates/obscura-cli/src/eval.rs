@@ -120,6 +120,18 @@ pub struct EvalArgs {
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
+    /// Temporal accumulation: every variant keeps a history (--history) and is scored
+    /// after this many frames of a still camera; also reported: the mean absolute
+    /// frame-to-frame change after them, and an orbit of as many frames (--orbit-step
+    /// degrees apart) ending at the view, scored by how long each pixel has been visible.
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Most frames the temporal history averages (with --frames > 1), 2..=256.
+    #[arg(long, default_value_t = 16)]
+    pub history: u32,
+    /// Degrees the orbit turns per frame (with --frames > 1).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub orbit_step: f32,
 }
 
 /// One evaluated view: what to load and how to look at it.
@@ -146,6 +158,21 @@ struct Row {
     /// against the same estimator and mode at full resolution.
     full_rmse: Option<(f32, f32)>,
     ms: Option<f64>,
+    /// With --frames: the temporal figures.
+    temporal: Option<TemporalFigures>,
+}
+
+/// How temporal accumulation behaves on one view (`eval --frames N`).
+#[derive(Clone, Copy, Debug)]
+struct TemporalFigures {
+    /// Mean |AO(frame N+1) − AO(frame N)| of a still camera.
+    flicker: f32,
+    /// RMSE of the last frame of the orbit.
+    orbit_rmse: f32,
+    /// Pixels of the orbit's last frame that became visible 4 frames before it (history of
+    /// 5 frames): their RMSE after the orbit, their RMSE in the still camera's converged
+    /// image, and how many there are.
+    disoccluded: Option<(f32, f32, usize)>,
 }
 
 fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
@@ -248,6 +275,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             bail!("--radius must be a finite number > 0 (got {r})");
         }
     }
+    if a.frames == 0 || a.frames > 1000 {
+        bail!("--frames must be in 1..=1000 (got {})", a.frames);
+    }
+    if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
+        bail!(
+            "--orbit-step must be degrees within ±90 (got {})",
+            a.orbit_step
+        );
+    }
     if a.modes.is_empty() || a.estimators.is_empty() {
         bail!("--modes and --estimators need at least one value each");
     }
@@ -314,6 +350,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     }
     if variants.is_empty() {
         bail!("no variant to evaluate");
+    }
+    if a.frames > 1 {
+        for (label, o) in variants.iter_mut() {
+            o.history = a.history;
+            *label = format!("{label} ×{}", a.frames);
+        }
     }
     let mut aos: Vec<Ao> = variants
         .iter()
@@ -435,6 +477,57 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .zip(&mask)
                 .map(|(b, m)| b && *m)
                 .collect();
+        // Temporal accumulation: N frames of the still camera, one more for the flicker,
+        // then an orbit of N frames ending at this camera.
+        let mut temporal: Vec<Option<TemporalFigures>> = vec![None; aos.len()];
+        let mut still_images: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
+        let mut orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>> = vec![None; aos.len()];
+        if a.frames > 1 {
+            for (i, ao) in aos.iter_mut().enumerate() {
+                ao.reset_history();
+                for _ in 0..a.frames {
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                }
+                let still = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                let next = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                let flicker = metrics::mean_abs_diff(&still, &next, &mask);
+                temporal[i] = Some(TemporalFigures {
+                    flicker,
+                    orbit_rmse: 0.0,
+                    disoccluded: None,
+                });
+                still_images[i] = Some(still);
+            }
+            let mut previous: Option<Camera> = None;
+            for k in 0..a.frames {
+                let c = cam.orbit(a.orbit_step * (k as f32 - (a.frames - 1) as f32));
+                let gk = raster.render(&ctx, &gpu_mesh, &c, w, h)?;
+                let ik = gk.ao_input(&c, a.normals == NormalSource::Gbuffer);
+                let pk = AoParams {
+                    motion: previous.map_or(obscura::CameraMotion::Cut, |p| c.motion_since(&p)),
+                    ..params
+                };
+                for ao in aos.iter_mut() {
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &pk))?;
+                }
+                previous = Some(c);
+            }
+            for (i, ao) in aos.iter().enumerate() {
+                let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                // The history's frame counts at full resolution (nearest texel below it).
+                let hist = ctx.read_f32(ao.history().context("history missing")?)?;
+                let f = ao.options().resolution.factor();
+                let hw = w.div_ceil(f);
+                let frames: Vec<f32> = (0..(w * h))
+                    .map(|p| {
+                        let (x, y) = (p % w / f, p / w / f);
+                        hist[((y * hw + x) * 4 + 1) as usize]
+                    })
+                    .collect();
+                orbit_images[i] = Some((out, frames));
+            }
+        }
         let mut screen = Vec::new();
         for (e, ao) in screen_aos.iter_mut() {
             let t = Instant::now();
@@ -477,7 +570,27 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             ));
         }
         for (i, ao) in aos.iter().enumerate() {
-            let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+            let out = match still_images[i].take() {
+                Some(img) => img,
+                None => ctx.read_f32(ao.output().context("AO output missing")?)?,
+            };
+            if let (Some(t), Some((orbit, frames))) = (temporal[i].as_mut(), &orbit_images[i]) {
+                t.orbit_rmse = metrics::rmse(orbit, &reference.ao, &mask);
+                // Visible for 4 frames before the last: a history of 5 frames.
+                let young: Vec<bool> = frames
+                    .iter()
+                    .zip(&mask)
+                    .map(|(f, m)| *m && (*f - 5.0).abs() < 0.5)
+                    .collect();
+                let count = young.iter().filter(|y| **y).count();
+                if count > 0 {
+                    t.disoccluded = Some((
+                        metrics::rmse(orbit, &reference.ao, &young),
+                        metrics::rmse(&out, &reference.ao, &young),
+                        count,
+                    ));
+                }
+            }
             let o = variants[i].1;
             results.push((
                 variants[i].0.clone(),
@@ -516,6 +629,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 screen_rmse,
                 full_rmse,
                 ms: *ms,
+                temporal: variants
+                    .iter()
+                    .position(|v| &v.0 == name)
+                    .and_then(|i| temporal[i]),
             });
         }
         for row in rows.iter().filter(|x| x.view == job.name) {
@@ -575,7 +692,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
     }
 
-    let table = format!("{}{}", mixed_summary(&rows), summary_table(&rows));
+    let table = format!(
+        "{}{}{}",
+        mixed_summary(&rows),
+        summary_table(&rows),
+        temporal_table(&rows, a)
+    );
     print!("{table}");
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
         let rel = relative_dir(dir, md);
@@ -785,6 +907,58 @@ fn summary_table(rows: &[Row]) -> String {
     s
 }
 
+/// The temporal figures of `eval --frames N`, per view and variant, and their means.
+fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
+    let t: Vec<(&Row, TemporalFigures)> = rows
+        .iter()
+        .filter_map(|r| r.temporal.map(|t| (r, t)))
+        .collect();
+    if t.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\n### Temporal accumulation ({} frames, history {})\n\n*Flicker*: mean |AO(frame {}) − AO(frame {})| of the still camera. *Orbit*: {} frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's {}-frame image (ratio: the issue asks ≤ 1.5).\n\n| view | variant | RMSE ({} frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
+        a.frames, a.history, a.frames + 1, a.frames, a.frames, a.orbit_step, a.frames, a.frames
+    );
+    for (r, f) in &t {
+        let d = f
+            .disoccluded
+            .map_or(" – | – | – | – |".to_string(), |(o, st, n)| {
+                format!(" {n} | {o:.4} | {st:.4} | {:.2} |", o / st.max(1e-6))
+            });
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} | {:.4} | {:.4} |{d}",
+            r.view, r.variant, r.rmse, f.flicker, f.orbit_rmse
+        );
+    }
+    let mut variants: Vec<&str> = t.iter().map(|(r, _)| r.variant.as_str()).collect();
+    variants.dedup();
+    variants.sort();
+    variants.dedup();
+    for v in variants {
+        let of: Vec<&(&Row, TemporalFigures)> = t.iter().filter(|(r, _)| r.variant == v).collect();
+        let n = of.len() as f32;
+        let mean =
+            |f: &dyn Fn(&(&Row, TemporalFigures)) -> f32| of.iter().map(|x| f(x)).sum::<f32>() / n;
+        let (o, st): (f32, f32) = of
+            .iter()
+            .filter_map(|(_, f)| f.disoccluded)
+            .fold((0.0, 0.0), |acc, (o, st, _)| {
+                (acc.0 + o * o, acc.1 + st * st)
+            });
+        let _ = writeln!(
+            s,
+            "| **mean** | {v} | {:.4} | {:.4} | {:.4} | | | | {:.2} (pooled) |",
+            mean(&|x| x.0.rmse),
+            mean(&|x| x.1.flicker),
+            mean(&|x| x.1.orbit_rmse),
+            (o / st.max(1e-12)).sqrt()
+        );
+    }
+    s
+}
+
 fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     let mut s = String::from("{\n  \"views\": [\n");
     for (i, (name, radius, se, tris)) in info.iter().enumerate() {
@@ -798,7 +972,7 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     for (i, r) in rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}}}{}",
+            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}}}{}",
             r.view,
             r.variant,
             r.estimator,
@@ -811,6 +985,14 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.0)),
             r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.1)),
             r.ms.map_or("null".to_string(), |m| format!("{m:.3}")),
+            r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.flicker)),
+            r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.orbit_rmse)),
+            r.temporal
+                .and_then(|t| t.disoccluded)
+                .map_or("null".to_string(), |d| format!("{:.5}", d.0)),
+            r.temporal
+                .and_then(|t| t.disoccluded)
+                .map_or("null".to_string(), |d| format!("{:.5}", d.1)),
             if i + 1 == rows.len() { "" } else { "," }
         );
     }

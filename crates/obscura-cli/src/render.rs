@@ -5,8 +5,8 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use obscura::{
-    layout, Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext,
-    Preset, PyramidBuild, Resolution, Upsampler,
+    layout, Ao, AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, Estimator,
+    GpuContext, Preset, PyramidBuild, Resolution, Upsampler,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::path::PathBuf;
@@ -156,8 +156,8 @@ pub struct ResolutionArgs {
     /// Upsampler below full resolution: bilinear, nearest-depth, classified, bilateral.
     #[arg(long, value_parser = parse_upsampler, default_value = "bilateral")]
     pub upsample: Upsampler,
-    /// Filtering at the working resolution: none, blur (depth-aware), box, tent.
-    #[arg(long, value_parser = parse_denoise, default_value = "none")]
+    /// Filtering at the working resolution: none, spatial (edge-aware, one jitter period), box, tent.
+    #[arg(long, value_parser = parse_denoise, default_value = "spatial")]
     pub denoise: Denoise,
     /// Depth pyramid (SAO, classified upsampler): auto (four levels per pass on GPUs, one
     /// on CPU adapters), one (one level per pass) or four (four levels per pass).
@@ -290,9 +290,28 @@ pub struct RenderArgs {
     /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
-    /// Timed AO runs after one warm-up run; the median is reported.
+    /// Timed AO runs after one warm-up run; the median is reported (single frames).
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
+    /// Frames to record with temporal accumulation (1: a single frame, no history): a still
+    /// camera, or the --orbit path. Per-frame and total times are reported.
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Most frames the temporal history averages (with --frames > 1), 2..=256.
+    #[arg(long, default_value_t = 16)]
+    pub history: u32,
+    /// Orbit the camera this many degrees about the vertical axis through its target over
+    /// the frames, writing one PNG per frame to --out-dir.
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        requires = "out_dir",
+        allow_hyphen_values = true
+    )]
+    pub orbit: Option<f32>,
+    /// Folder for the --orbit frames (frame_0000.png, ...); created if missing.
+    #[arg(long, value_name = "DIR", requires = "orbit")]
+    pub out_dir: Option<PathBuf>,
 }
 
 /// Parses comma-separated finite numbers, naming the option `what` in errors.
@@ -320,6 +339,17 @@ fn check_args(a: &RenderArgs) -> Result<()> {
     if a.runs == 0 || a.runs > 1000 {
         bail!("--runs must be in 1..=1000 (got {})", a.runs);
     }
+    if a.frames == 0 || a.frames > 100_000 {
+        bail!("--frames must be in 1..=100000 (got {})", a.frames);
+    }
+    if let Some(d) = a.orbit {
+        if !d.is_finite() || d.abs() > 36000.0 {
+            bail!("--orbit must be a finite number of degrees within ±36000 (got {d})");
+        }
+        if a.depth.is_some() {
+            bail!("--orbit needs a scene (a depth map has one camera)");
+        }
+    }
     check_png_path(&a.out)?;
     for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
         check_png_path(p)?;
@@ -338,6 +368,11 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
     a.resolution.apply(AoOptions {
         mode: a.mode.into(),
         fused: !a.unfused,
+        history: if a.frames > 1 || a.orbit.is_some() {
+            a.history
+        } else {
+            0
+        },
         ..a.quality.samples.options(a.quality.estimator.into())
     })
 }
@@ -348,6 +383,7 @@ pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {
         bias_angle_deg: a.bias,
         strength: a.strength,
         max_radius_px: a.max_radius_px,
+        ..Default::default()
     }
 }
 
@@ -475,29 +511,46 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             options.denoise.name()
         );
     }
+    if let (Some(degrees), Some(dir)) = (a.orbit, &a.out_dir) {
+        return orbit(
+            a, &ctx, &raster, &gpu_mesh, &cam, &mut ao, &params, degrees, dir, t0,
+        );
+    }
     let mut times = Vec::new();
-    for i in 0..=a.runs {
+    let first = Instant::now();
+    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+    eprintln!(
+        "ao: first run {:.1} ms (includes shader compilation)",
+        first.elapsed().as_secs_f64() * 1e3
+    );
+    // With temporal accumulation the warm-up frame is not part of the image.
+    ao.reset_history();
+    let timed = if a.frames > 1 { a.frames } else { a.runs };
+    let total = Instant::now();
+    for _ in 0..timed {
         let t = Instant::now();
         ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
-        if i == 0 {
-            eprintln!("ao: first run {ms:.1} ms (includes shader compilation)");
-        } else {
-            times.push(ms);
-        }
+        times.push(t.elapsed().as_secs_f64() * 1e3);
     }
-    eprintln!(
-        "ao: median {:.2} ms over {} runs (wall clock around submit + wait)",
-        median_ms(times),
-        a.runs
-    );
+    if a.frames > 1 {
+        eprintln!(
+            "ao: {} accumulated frames (history {}), median {:.2} ms per frame, {:.1} ms in all",
+            a.frames,
+            options.history,
+            median_ms(times),
+            total.elapsed().as_secs_f64() * 1e3
+        );
+    } else {
+        eprintln!(
+            "ao: median {:.2} ms over {} runs (wall clock around submit + wait)",
+            median_ms(times),
+            a.runs
+        );
+    }
 
     let out_tex = ao.output().context("AO output missing after a run")?;
     let values = ctx.read_f32(out_tex)?;
-    let pixels: Vec<u8> = values
-        .iter()
-        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-        .collect();
+    let pixels = to_gray8(&values);
     save_png(
         &a.out,
         &pixels,
@@ -545,6 +598,85 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     }
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// `render --orbit`: the camera turns `degrees` about the vertical axis through its target
+/// over `--frames` frames; each frame's G-buffer is rasterized, its AO recorded with the
+/// camera motion (temporal accumulation reprojects the history) and written as a PNG.
+#[allow(clippy::too_many_arguments)]
+fn orbit(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    raster: &GBufferRenderer,
+    mesh: &obscura_scene::GpuMesh,
+    cam: &Camera,
+    ao: &mut Ao,
+    params: &AoParams,
+    degrees: f32,
+    dir: &std::path::Path,
+    t0: Instant,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    let n = a.frames;
+    let mut times = Vec::with_capacity(n as usize);
+    let mut previous: Option<Camera> = None;
+    for k in 0..n {
+        let turn = if n > 1 {
+            degrees * k as f32 / (n - 1) as f32
+        } else {
+            0.0
+        };
+        let c = cam.orbit(turn);
+        let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
+        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
+        let p = AoParams {
+            motion: previous.map_or(CameraMotion::Cut, |prev| c.motion_since(&prev)),
+            ..*params
+        };
+        let t = Instant::now();
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
+        let path = dir.join(format!("frame_{k:04}.png"));
+        save_png(
+            &path,
+            &to_gray8(&values),
+            a.width,
+            a.height,
+            image::ExtendedColorType::L8,
+        )?;
+        previous = Some(c);
+        progress(k + 1, n, &path);
+    }
+    eprintln!();
+    eprintln!(
+        "ao: {n} frames orbiting {degrees}°, median {:.2} ms per frame (the first includes \
+         shader compilation); wrote {}",
+        median_ms(times),
+        dir.display()
+    );
+    eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// One line of progress on stderr, redrawn in place: `[=====     ] 5/10 path`.
+pub(crate) fn progress(done: u32, total: u32, what: &std::path::Path) {
+    let width = 30;
+    let filled = (done as usize * width) / total.max(1) as usize;
+    eprint!(
+        "\r[{}{}] {done}/{total} {}",
+        "=".repeat(filled),
+        " ".repeat(width - filled),
+        what.display()
+    );
+}
+
+/// AO in [0, 1] as 8-bit gray (white = unoccluded).
+pub(crate) fn to_gray8(values: &[f32]) -> Vec<u8> {
+    values
+        .iter()
+        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect()
 }
 
 /// The prepared `vec4(depth, normal)` buffer at full resolution: read directly, or

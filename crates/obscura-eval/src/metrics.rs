@@ -14,6 +14,18 @@ pub fn rmse(a: &[f32], b: &[f32], mask: &[bool]) -> f32 {
     }
 }
 
+/// Mean of `|a − b|` over `mask` (0 when the mask is empty).
+pub fn mean_abs_diff(a: &[f32], b: &[f32], mask: &[bool]) -> f32 {
+    let (s, n) = masked(a, b, mask).fold((0.0f64, 0usize), |(s, n), (x, y)| {
+        (s + (x - y).abs() as f64, n + 1)
+    });
+    if n == 0 {
+        0.0
+    } else {
+        (s / n as f64) as f32
+    }
+}
+
 /// Mean of `a − b` over `mask` (positive: `a` is brighter, i.e. under-occludes).
 pub fn bias(a: &[f32], b: &[f32], mask: &[bool]) -> f32 {
     let (s, n) = masked(a, b, mask).fold((0.0f64, 0usize), |(s, n), (x, y)| {

@@ -80,6 +80,25 @@ impl Camera {
         )
     }
 
+    /// The camera with its eye turned `degrees` about the vertical (`up`) axis through the
+    /// target, at the same distance and with the same projection.
+    pub fn orbit(&self, degrees: f32) -> Camera {
+        let turn = glam::Quat::from_axis_angle(self.up.normalize(), degrees.to_radians());
+        Camera {
+            eye: self.target + turn * (self.eye - self.target),
+            ..*self
+        }
+    }
+
+    /// The motion from `previous` to this camera, as obscura's temporal accumulation wants
+    /// it: `previous_view * inverse(view)`, taking this view space to the previous one.
+    pub fn motion_since(&self, previous: &Camera) -> obscura::CameraMotion {
+        let m = previous.view_matrix() * self.view_matrix().inverse();
+        obscura::CameraMotion::Moved {
+            previous_from_current: m.to_cols_array_2d(),
+        }
+    }
+
     /// View → clip, depth in [0, 1].
     pub fn projection_matrix(&self, aspect: f32) -> Mat4 {
         match self.projection {

@@ -32,8 +32,13 @@ fn linearize_depth(z: f32) -> f32 {
 // View-space position of pixel-space point `p` (viewport-local; pixel centres at +0.5)
 // at linear depth `d`. View space: x right, y up, camera looking down -z.
 fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
+    return view_position_scaled(p, d, frame.ndc_to_view);
+}
+
+// `view_position` with another projection's `ndc_to_view` (the previous frame's).
+fn view_position_scaled(p: vec2<f32>, d: f32, ndc_to_view: vec2<f32>) -> vec3<f32> {
     let ndc = vec2<f32>(p.x * frame.inv_size.x * 2.0 - 1.0, 1.0 - p.y * frame.inv_size.y * 2.0);
-    var xy = ndc * frame.ndc_to_view;
+    var xy = ndc * ndc_to_view;
     if frame.perspective != 0u {
         xy = xy * d;
     }

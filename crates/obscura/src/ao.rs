@@ -18,13 +18,13 @@
 
 use crate::layout::layer_size;
 use crate::shader::{
-    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, LINEAR_DEPTH_FORMAT,
-    PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, HISTORY_FORMAT,
+    LINEAR_DEPTH_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
-    AoOptions, AoParams, Denoise, DepthConvention, Error, NormalEncoding, Projection, Result,
-    Upsampler, Viewport,
+    AoOptions, AoParams, CameraMotion, Denoise, DepthConvention, Error, NormalEncoding, Projection,
+    Result, Upsampler, Viewport,
 };
 
 /// What the caller hands over each frame.
@@ -67,7 +67,7 @@ enum Res {
     PyramidMip(u32),
     /// `ao_work`: work size, AO_FORMAT (when post-processing follows the AO pass).
     AoWork,
-    /// `ao_tmp`: work size, AO_FORMAT (between the blur's two axes).
+    /// `ao_tmp`: work size, AO_FORMAT (between the temporal pass and the denoiser).
     AoTmp,
     /// `ao_layers`: work layer size × N², AO_FORMAT (unfused deinterleaved).
     AoLayers,
@@ -75,6 +75,24 @@ enum Res {
     AoHalf,
     /// `output`: full size, AO_FORMAT.
     Output,
+    /// The temporal history read this frame (last frame's): work size, HISTORY_FORMAT;
+    /// one of the two [`Res::History`] textures, alternating by frame.
+    HistoryPrev,
+    /// The temporal history written this frame: the other [`Res::History`] texture.
+    HistoryNext,
+    /// History texture 0 or 1 (what `HistoryPrev`/`HistoryNext` resolve to).
+    History(u32),
+}
+
+impl Res {
+    /// The texture this resource is on frame parity `parity` (history alternates).
+    fn at_parity(self, parity: u32) -> Res {
+        match self {
+            Res::HistoryPrev => Res::History(parity),
+            Res::HistoryNext => Res::History(1 - parity),
+            r => r,
+        }
+    }
 }
 
 /// Which uniform buffer a pass binds: the full-resolution frame or the working one.
@@ -127,7 +145,9 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     let up_level = o.upsample_factor().ilog2();
     let direct = o.direct();
     let upsample = up_level > 0;
-    let fused_prepare = direct && n > 1 && o.fused;
+    // The prepare pass writes the layers itself at full resolution; the denoiser and the
+    // temporal pass then read the prepared values from the layers.
+    let fused_prepare = n > 1 && o.fused && work_level == 0 && !o.denoise.downsamples();
     // Below full resolution the prepare pass writes the first level itself, and at full
     // resolution only what the upsampler and the pyramid read (linear depth, plus normals
     // for the bilateral upsampler), unless unfused.
@@ -213,7 +233,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         )),
         (true, true, _) => steps.push(step(
             layers(true),
-            pyramid(vec![(1, Res::PreparedLayers), (2, Res::Output)]),
+            pyramid(vec![(1, Res::PreparedLayers), (2, ao_target)]),
             FrameAt::Work,
             Grid::Layers,
         )),
@@ -249,25 +269,59 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             }
         }
     }
+    // After the AO pass: [temporal] → [denoise] → [upsample]; `current` is the texture
+    // holding the AO so far, the last pass before the upsampler (or none) writes Output.
+    let (src_layers, src) = if fused_prepare {
+        (true, Res::PreparedLayers)
+    } else {
+        (false, work_prepared)
+    };
+    let mut current = Res::AoWork;
+    let other = |r: Res| {
+        if r == Res::AoWork {
+            Res::AoTmp
+        } else {
+            Res::AoWork
+        }
+    };
+    if o.history > 0 {
+        let more = o.denoise != Denoise::None || upsample;
+        let next = if more { other(current) } else { Res::Output };
+        steps.push(step(
+            Pass::Temporal { layers: src_layers },
+            vec![
+                (1, src),
+                (2, current),
+                (3, Res::HistoryPrev),
+                (4, Res::HistoryNext),
+                (5, next),
+            ],
+            FrameAt::Work,
+            Grid::Level(work_level),
+        ));
+        current = next;
+    }
     match o.denoise {
         Denoise::None => {}
-        Denoise::Blur => {
-            let last = if upsample { Res::AoWork } else { Res::Output };
-            for (vertical, from, to) in [(false, Res::AoWork, Res::AoTmp), (true, Res::AoTmp, last)]
-            {
-                steps.push(step(
-                    Pass::Blur { vertical },
-                    vec![(1, work_prepared), (2, from), (3, to)],
-                    FrameAt::Work,
-                    Grid::Level(work_level),
-                ));
-            }
+        Denoise::Spatial => {
+            let next = if upsample {
+                other(current)
+            } else {
+                Res::Output
+            };
+            steps.push(step(
+                Pass::Denoise { layers: src_layers },
+                vec![(1, src), (2, current), (3, next)],
+                FrameAt::Work,
+                Grid::Level(work_level),
+            ));
+            current = next;
         }
         Denoise::Box | Denoise::Tent => steps.push(step(
             Pass::AoDownsample {
                 tent: o.denoise == Denoise::Tent,
             },
-            vec![(1, Res::AoWork), (2, Res::AoHalf)],
+            vec![(1, current), (2, Res::AoHalf)],
             FrameAt::Full,
             Grid::Level(work_level + 1),
         )),
@@ -276,7 +330,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         let from = if o.denoise.downsamples() {
             Res::AoHalf
         } else {
-            Res::AoWork
+            current
         };
         let mut views = vec![
             (1, full_depth),
@@ -326,16 +380,17 @@ struct SizedResources {
     textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)>,
     /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
     prepare_dispatch: [u32; 3],
-    /// Bind groups of every pass after prepare, in order: (compiled index, bind group,
+    /// Bind groups of every pass after prepare, in order: (compiled index, bind group on
+    /// even and odd frames (they differ only for passes that touch the history),
     /// workgroups). The pass that writes the output has none here (see `output_binding`).
-    later: Vec<(usize, Option<wgpu::BindGroup>, [u32; 3])>,
+    later: Vec<(usize, Option<[wgpu::BindGroup; 2]>, [u32; 3])>,
     /// The pass writing the output: (index in `later`, index in the plan's steps).
     output_step: (usize, usize),
     /// The prepare bind group of the last frame's input views.
     prepare_binding: Option<PrepareBinding>,
-    /// The output pass's bind group and the output view it binds (the caller's, or
-    /// `own_output`'s), kept while the caller passes the same view.
-    output_binding: Option<(wgpu::TextureView, wgpu::BindGroup)>,
+    /// The output pass's bind groups (even, odd frames) and the output view they bind (the
+    /// caller's, or `own_output`'s), kept while the caller passes the same view.
+    output_binding: Option<(wgpu::TextureView, [wgpu::BindGroup; 2])>,
     /// The library's own output, created on the first frame without a caller output.
     own_output: Option<(wgpu::Texture, wgpu::TextureView)>,
 }
@@ -404,6 +459,52 @@ pub struct Ao {
     max_dim: u32,
     sized: Option<SizedResources>,
     created: ResourceCount,
+    temporal: TemporalState,
+}
+
+/// What temporal accumulation remembers between frames.
+#[derive(Debug, Default)]
+struct TemporalState {
+    /// Frames recorded so far (the sampling patterns rotate with it).
+    frame: u32,
+    /// Whether the history texture holds the previous frame at this size.
+    valid: bool,
+    /// Which history texture this frame reads (0 or 1).
+    parity: u32,
+    /// The previous frame's projection scale and kind.
+    previous: Option<([f32; 2], u32)>,
+}
+
+impl TemporalState {
+    /// Fills this frame's temporal uniforms and rotated patterns, and advances to the next
+    /// frame; returns the parity of this frame's bind groups. Without temporal
+    /// accumulation nothing changes (parity 0, the patterns of frame 0).
+    fn apply(&mut self, o: &AoOptions, motion: CameraMotion, f: &mut FrameUniforms) -> u32 {
+        if o.history == 0 {
+            return 0;
+        }
+        let parity = self.parity;
+        let same_kind = self.previous.is_some_and(|p| p.1 == f.perspective);
+        let valid = self.valid && same_kind && motion != CameraMotion::Cut;
+        f.history = valid as u32;
+        if let (Some((scale, _)), true) = (self.previous, valid) {
+            f.prev_ndc_to_view = scale;
+        }
+        if let CameraMotion::Moved {
+            previous_from_current,
+        } = motion
+        {
+            f.prev_from_view = previous_from_current;
+        }
+        if o.jitter {
+            f.patterns = crate::jitter::pattern_table_frame(o.directions, self.frame);
+        }
+        self.frame = self.frame.wrapping_add(1);
+        self.valid = true;
+        self.parity = 1 - parity;
+        self.previous = Some((f.ndc_to_view, f.perspective));
+        parity
+    }
 }
 
 fn texture_entry(
@@ -522,10 +623,17 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Blur { .. } => vec![
-            texture_entry(1, UNFILTERED, D2),
+        Pass::Denoise { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
             storage_entry(3, AO_FORMAT, D2),
+        ],
+        Pass::Temporal { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
+            texture_entry(2, UNFILTERED, D2),
+            texture_entry(3, UNFILTERED, D2),
+            storage_entry(4, HISTORY_FORMAT, D2),
+            storage_entry(5, AO_FORMAT, D2),
         ],
         Pass::AoDownsample { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
@@ -749,6 +857,7 @@ impl Ao {
                 texture_views: 1,
                 bind_groups: 0,
             },
+            temporal: TemporalState::default(),
         })
     }
 
@@ -899,12 +1008,15 @@ impl Ao {
             .collect();
         for st in &self.steps {
             for &(_, r) in &st.views {
-                let r = match r {
-                    Res::PyramidMip(_) => Res::Pyramid,
-                    r => r,
+                let rs = match r {
+                    Res::PyramidMip(_) => vec![Res::Pyramid],
+                    Res::HistoryPrev | Res::HistoryNext => vec![Res::History(0), Res::History(1)],
+                    r => vec![r],
                 };
-                if !used.contains(&r) {
-                    used.push(r);
+                for r in rs {
+                    if !used.contains(&r) {
+                        used.push(r);
+                    }
                 }
             }
         }
@@ -930,7 +1042,10 @@ impl Ao {
                     Res::AoTmp => ("obscura ao blur", work, 1, AO_FORMAT),
                     Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
                     Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
-                    Res::Output => unreachable!("the output is created on demand"),
+                    Res::History(_) => ("obscura ao history", work, 1, HISTORY_FORMAT),
+                    Res::Output | Res::HistoryPrev | Res::HistoryNext => {
+                        unreachable!("the output is created on demand; history resolves by parity")
+                    }
                 };
                 let mips = if r == Res::Pyramid {
                     dims.0.max(dims.1).ilog2() + 1
@@ -975,6 +1090,7 @@ impl Ao {
         };
         let mut later = Vec::new();
         let mut output_step = (0, 0);
+        let mut bind_groups = 0;
         for (si, st) in self.steps.iter().enumerate() {
             let i = self
                 .later
@@ -1019,8 +1135,9 @@ impl Ao {
                     let mut views = vec![(1, &from)];
                     views.extend(outs.iter().zip(2..).map(|(v, b)| (b, v)));
                     let bg = bind_group(device, c, buffer, &views);
+                    bind_groups += 1;
                     let d = (1.max(pyramid_base.0 >> m0), 1.max(pyramid_base.1 >> m0));
-                    later.push((i, Some(bg), workgroups(d.0, d.1, 1)));
+                    later.push((i, Some([bg.clone(), bg]), workgroups(d.0, d.1, 1)));
                 }
                 continue;
             }
@@ -1037,17 +1154,27 @@ impl Ao {
                     _ => None,
                 })
                 .collect();
-            let views: Vec<(u32, &wgpu::TextureView)> = st
-                .views
-                .iter()
-                .filter_map(|&(b, r)| match r {
-                    Res::PyramidMip(_) => None,
-                    r => find(r).map(|t| (b, &t.2)),
-                })
-                .chain(mips.iter().map(|(b, v)| (*b, v)))
-                .collect();
-            let bg = bind_group(device, c, buffer, &views);
-            later.push((i, Some(bg), grid(st.grid)));
+            let parity_group = |parity: u32| {
+                let views: Vec<(u32, &wgpu::TextureView)> = st
+                    .views
+                    .iter()
+                    .filter_map(|&(b, r)| match r {
+                        Res::PyramidMip(_) => None,
+                        r => find(r.at_parity(parity)).map(|t| (b, &t.2)),
+                    })
+                    .chain(mips.iter().map(|(b, v)| (*b, v)))
+                    .collect();
+                bind_group(device, c, buffer, &views)
+            };
+            let even = parity_group(0);
+            let odd = if st.views.iter().any(|v| v.1.at_parity(0) != v.1) {
+                bind_groups += 1;
+                parity_group(1)
+            } else {
+                even.clone()
+            };
+            bind_groups += 1;
+            later.push((i, Some([even, odd]), grid(st.grid)));
         }
         let prepare_dispatch = match self.prepare_store {
             PrepareStore::Full => grid(Grid::Level(0)),
@@ -1056,7 +1183,9 @@ impl Ao {
         };
         self.created.textures += textures.len() as u32 + placeholders.get();
         self.created.texture_views += textures.len() as u32 + mip_views.get() + placeholders.get();
-        self.created.bind_groups += later.iter().filter(|l| l.1.is_some()).count() as u32;
+        self.created.bind_groups += bind_groups;
+        // A new size starts a new history.
+        self.temporal.valid = false;
         self.sized = Some(SizedResources {
             size,
             textures,
@@ -1086,12 +1215,15 @@ impl Ao {
         input: &AoInput<'_>,
         params: &AoParams,
     ) -> Result<Vec<(&Compiled, wgpu::BindGroup, [u32; 3])>> {
-        let frame = self.validate(input, params)?;
+        let mut frame = self.validate(input, params)?;
+        let binding = depth_binding(input.depth.texture().format())?;
+        self.ensure_size(device, frame.size)?;
+        let parity = self
+            .temporal
+            .apply(&self.options, params.motion, &mut frame);
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
         let work = frame.at_factor(self.options.resolution.factor());
         queue.write_buffer(&self.work_uniforms, 0, bytemuck::bytes_of(&work));
-        let binding = depth_binding(input.depth.texture().format())?;
-        self.ensure_size(device, frame.size)?;
         let Some(sized) = self.sized.as_mut() else {
             return Err(Error::Gpu("size-dependent resources missing".into()));
         };
@@ -1149,31 +1281,37 @@ impl Ao {
             let (_, si) = sized.output_step;
             let st = &self.steps[si];
             let c = &self.later[sized.later[sized.output_step.0].0];
-            let mut views = Vec::with_capacity(st.views.len());
-            for &(b, r) in &st.views {
-                let v = if r == Res::Output {
-                    &out_view
-                } else {
-                    sized
-                        .view(r)
-                        .ok_or_else(|| Error::Gpu(format!("texture {r:?} missing")))?
-                };
-                views.push((b, v));
-            }
             let buffer = match st.frame {
                 FrameAt::Full => &self.uniforms,
                 FrameAt::Work => &self.work_uniforms,
             };
-            let bg = bind_group(device, c, buffer, &views);
-            self.created.bind_groups += 1;
-            sized.output_binding = Some((out_view, bg));
+            let mut groups = Vec::with_capacity(2);
+            for parity in 0..2 {
+                let mut views = Vec::with_capacity(st.views.len());
+                for &(b, r) in &st.views {
+                    let v = if r == Res::Output {
+                        &out_view
+                    } else {
+                        sized
+                            .view(r.at_parity(parity))
+                            .ok_or_else(|| Error::Gpu(format!("texture {r:?} missing")))?
+                    };
+                    views.push((b, v));
+                }
+                groups.push(bind_group(device, c, buffer, &views));
+                self.created.bind_groups += 1;
+            }
+            let odd = groups.pop().expect("two bind groups");
+            let even = groups.pop().expect("two bind groups");
+            sized.output_binding = Some((out_view, [even, odd]));
         }
         let Some((_, output_bind)) = sized.output_binding.as_ref() else {
             return Err(Error::Gpu("output bind group missing".into()));
         };
+        let p = parity as usize;
         let mut passes = vec![(prepare, prepare_bind, sized.prepare_dispatch)];
         for (i, bg, d) in &sized.later {
-            let bg = bg.as_ref().unwrap_or(output_bind).clone();
+            let bg = bg.as_ref().unwrap_or(output_bind)[p].clone();
             passes.push((&self.later[*i], bg, *d));
         }
         Ok(passes)
@@ -1347,9 +1485,36 @@ impl Ao {
         self.sized.as_ref().and_then(|s| s.texture(Res::Level(k)))
     }
 
-    /// The AO at working resolution before upsampling, when the plan has one.
+    /// Forgets the temporal history: the next frame starts a new one (as after a camera
+    /// cut, [`CameraMotion::Cut`], or a resize).
+    pub fn reset_history(&mut self) {
+        self.temporal.valid = false;
+    }
+
+    /// The temporal history written by the last frame (`Rgba32Float` at the working
+    /// resolution: `vec4(AO, frames accumulated (0 = sky), linear depth, 0)`), when
+    /// [`AoOptions::history`] is on and a frame was recorded.
+    pub fn history(&self) -> Option<&wgpu::Texture> {
+        let parity = self.temporal.parity;
+        self.sized
+            .as_ref()
+            .filter(|_| self.temporal.frame > 0)
+            .and_then(|s| s.texture(Res::History(parity)))
+    }
+
+    /// The AO at working resolution: below full resolution what the upsampler reads
+    /// (after temporal accumulation and denoising), else the AO pass's own output before
+    /// them, when the plan keeps one.
     pub fn working_ao(&self) -> Option<&wgpu::Texture> {
-        self.sized.as_ref().and_then(|s| s.texture(Res::AoWork))
+        let upsampled = self.steps.iter().find_map(|st| match st.pass {
+            Pass::Upsample { .. } => st.views.iter().find(|v| v.0 == 2).map(|v| v.1),
+            _ => None,
+        });
+        let r = match upsampled {
+            Some(r @ (Res::AoWork | Res::AoTmp)) => r,
+            _ => Res::AoWork,
+        };
+        self.sized.as_ref().and_then(|s| s.texture(r))
     }
 
     /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.

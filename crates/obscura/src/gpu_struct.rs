@@ -18,6 +18,7 @@ wgsl_types! {
     [u32; 2] => "vec2<u32>",
     [f32; 4] => "vec4<f32>",
     [[f32; 4]; 3] => "array<vec4<f32>, 3>",
+    [[f32; 4]; 4] => "mat4x4<f32>",
     [[f32; 4]; crate::jitter::PATTERN_COUNT] => "array<vec4<f32>, PATTERN_COUNT>",
 }
 

@@ -99,6 +99,21 @@ pub enum NormalEncoding {
 /// The 3×3 identity, as columns.
 pub(crate) const IDENTITY3: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
+/// Whether the column-major 4×4 matrix `m` is a finite rigid motion: an orthonormal
+/// rotation (tolerance 1e-3, determinant +1), any translation, last row (0, 0, 0, 1).
+pub(crate) fn is_rigid(m: &[[f32; 4]; 4]) -> bool {
+    if !m.iter().flatten().all(|v| v.is_finite()) {
+        return false;
+    }
+    let mat = glam::Mat4::from_cols_array_2d(m);
+    let r = glam::Mat3::from_mat4(mat);
+    let ortho = (r.transpose() * r - glam::Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .all(|v| v.abs() < 1e-3);
+    ortho && r.determinant() > 0.0 && mat.row(3).abs_diff_eq(glam::Vec4::W, 1e-6)
+}
+
 impl NormalEncoding {
     /// Whether texel values are `xyz * 0.5 + 0.5`.
     pub fn is_unorm(self) -> bool {

@@ -30,6 +30,36 @@ pub fn pattern_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
     })
 }
 
+/// The per-frame shift of the patterns, in [0, 1)²: the rotation follows the base-2 van
+/// der Corput sequence (radical inverse; any 2^k consecutive frames from 0 put one shift in
+/// each 1/2^k of the sector), the ray offset the golden-ratio sequence (well spread for any
+/// count); both start at ½ on frame 0 (no shift).
+pub fn frame_shift(k: u32) -> [f32; 2] {
+    let vdc = k.reverse_bits() as f64 / 4_294_967_296.0;
+    const GOLDEN: f64 = 0.618_033_988_749_894_8;
+    [
+        (0.5 + vdc).fract() as f32,
+        (0.5 + k as f64 * GOLDEN).fract() as f32,
+    ]
+}
+
+/// The pattern table of frame `frame` for temporal accumulation: every entry's rotation and
+/// ray offset moved by the frame's [`frame_shift`], over the whole rotation sector and offset
+/// range, so each pixel on its own sees every direction and offset over frames, while
+/// within a frame the entries stay as stratified as in [`pattern_table`] (they all move
+/// together). Frame 0 is [`pattern_table`].
+pub fn pattern_table_frame(directions: u32, frame: u32) -> [[f32; 4]; PATTERN_COUNT] {
+    if frame == 0 {
+        return pattern_table(directions);
+    }
+    let sector = std::f32::consts::TAU / directions.max(1) as f32;
+    let [u, v] = frame_shift(frame);
+    pattern_table(directions).map(|[c, s, o, w]| {
+        let theta = s.atan2(c) + (u - 0.5) * sector;
+        [theta.cos(), theta.sin(), (o + v - 0.5).rem_euclid(1.0), w]
+    })
+}
+
 /// The table with every entry the same fixed pattern: rotation half a sector, offset ½
 /// (no jitter; [`crate::AoOptions::jitter`]).
 pub fn fixed_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
@@ -60,6 +90,26 @@ mod tests {
             off[(o * m) as usize] += 1;
         }
         (rot, off)
+    }
+
+    #[test]
+    fn frames_cover_the_sector_evenly() {
+        assert_eq!(pattern_table_frame(4, 0), pattern_table(4));
+        // Over 16 frames one entry's rotations fall in 16 distinct sixteenths of the sector
+        // and its offsets spread over the range.
+        let sector = std::f32::consts::TAU / 4.0;
+        let first = pattern_table(4)[0];
+        let start = first[1].atan2(first[0]);
+        let (mut rot, mut off) = ([0; 16], [0; 4]);
+        for k in 0..16 {
+            let [c, s, o, _] = pattern_table_frame(4, k)[0];
+            let d = ((s.atan2(c) - start) / sector + 0.5).rem_euclid(1.0);
+            rot[(d * 16.0) as usize] += 1;
+            assert!((0.0..1.0).contains(&o));
+            off[(o * 4.0) as usize] += 1;
+        }
+        assert_eq!(rot, [1; 16], "{off:?}");
+        assert!(off.iter().all(|&n| n >= 3), "{off:?}");
     }
 
     #[test]

@@ -700,42 +700,146 @@ pub fn upsample(
     out
 }
 
-/// One axis of the depth-aware blur at working resolution (`f` the working frame,
-/// `prepared` its prepared buffer); mirrors shaders/blur.wgsl.
-pub fn blur(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], vertical: bool) -> Vec<f32> {
-    use crate::shader::{BLUR_WEIGHTS, PLANE_TOLERANCE};
+/// The edge-aware spatial denoiser at working resolution (`f` the working frame,
+/// `prepared` its prepared values per pixel, `period` the pattern period 2 or 4); mirrors
+/// shaders/denoise.wgsl.
+pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) -> Vec<f32> {
+    use crate::shader::{DENOISE_RADIUS_TOLERANCE, PLANE_TOLERANCE};
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
+    let r = (period / 2) as i32;
     let mut out = Vec::with_capacity(ao.len());
     for y in 0..h {
         for x in 0..w {
             let c = prepared[at([x, y])];
-            let mut a = ao[at([x, y])];
-            if c.x > 0.0 {
-                let pos = f.view_position(centre([x, y]), c.x);
-                let n = Vec3::new(c.y, c.z, c.w);
-                let (mut sum, mut total) = (a, 1.0);
-                for k in -4i32..=4 {
-                    let q = if vertical { [x, y + k] } else { [x + k, y] };
-                    if k == 0 || q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h {
+            if c.x <= 0.0 {
+                out.push(ao[at([x, y])]);
+                continue;
+            }
+            let pos = f.view_position(centre([x, y]), c.x);
+            let n = Vec3::new(c.y, c.z, c.w);
+            let tol = (PLANE_TOLERANCE * c.x).min(DENOISE_RADIUS_TOLERANCE * f.radius);
+            let (mut sum, mut total) = (0.0, 0.0);
+            for dy in -r..=r {
+                for dx in -r..=r {
+                    let q = [x + dx, y + dy];
+                    if q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h {
                         continue;
                     }
                     let s = prepared[at(q)];
                     if s.x <= 0.0 {
                         continue;
                     }
-                    let z = (f.view_position(centre(q), s.x) - pos).dot(n).abs()
-                        / (PLANE_TOLERANCE * c.x);
-                    let wgt = BLUR_WEIGHTS[k.unsigned_abs() as usize] * (-z * z).exp();
+                    let sn = Vec3::new(s.y, s.z, s.w);
+                    let off = f.view_position(centre(q), s.x) - pos;
+                    let z = off.dot(n).abs().max(off.dot(sn).abs()) / tol;
+                    let spatial = |d: i32| if d.abs() == r { 1.0 } else { 2.0 };
+                    let wgt =
+                        spatial(dx) * spatial(dy) * (-z * z).exp() * sn.dot(n).max(0.0).powi(8);
                     sum += wgt * ao[at(q)];
                     total += wgt;
                 }
-                a = sum / total;
             }
-            out.push(a);
+            out.push(sum / total);
         }
     }
     out
+}
+
+/// One frame of temporal accumulation at working resolution (`f` the working frame with
+/// its temporal fields, `prepared` per pixel, `ao` this frame's raw AO, `history` last
+/// frame's `vec4(AO, frames, depth, 0)`); returns this frame's history and AO. Mirrors
+/// shaders/temporal.wgsl.
+pub fn temporal(
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    ao: &[f32],
+    history: &[Vec4],
+) -> (Vec<Vec4>, Vec<f32>) {
+    use crate::shader::PLANE_TOLERANCE;
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
+    let m = glam::Mat4::from_cols_array_2d(&f.prev_from_view);
+    let prev_view = |p: [f32; 2], d: f32| {
+        let mut g = *f;
+        g.ndc_to_view = f.prev_ndc_to_view;
+        g.view_position(p, d)
+    };
+    // The history (AO, frames) where `pos` was last frame; (0, 0) when no texel is valid.
+    let reprojected = |pos: Vec3, n: Vec3| -> glam::Vec2 {
+        let prev = m.transform_point3(pos);
+        let prev_n = m.transform_vector3(n);
+        let depth = -prev.z;
+        if depth <= 0.0 {
+            return glam::Vec2::ZERO;
+        }
+        let mut ndc = glam::Vec2::new(prev.x, prev.y) / glam::Vec2::from(f.prev_ndc_to_view);
+        if f.perspective != 0 {
+            ndc /= depth;
+        }
+        let px = glam::Vec2::new(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / glam::Vec2::from(f.inv_size);
+        let base = (px - 0.5).floor();
+        let fr = px - 0.5 - base;
+        let (mut sum, mut total) = (glam::Vec2::ZERO, 0.0);
+        for i in 0..4 {
+            let o = [i & 1, i >> 1];
+            let t = [base.x as i32 + o[0], base.y as i32 + o[1]];
+            if t[0] < 0 || t[1] < 0 || t[0] >= w || t[1] >= h {
+                continue;
+            }
+            let hv = history[at(t)];
+            if hv.z <= 0.0 {
+                continue;
+            }
+            let q = prev_view(centre(t), hv.z);
+            if (q - prev).dot(prev_n).abs() >= PLANE_TOLERANCE * depth {
+                continue;
+            }
+            let wx = if o[0] == 1 { fr.x } else { 1.0 - fr.x };
+            let wy = if o[1] == 1 { fr.y } else { 1.0 - fr.y };
+            sum += wx * wy * glam::Vec2::new(hv.x, hv.y);
+            total += wx * wy;
+        }
+        if total < 1e-3 {
+            glam::Vec2::ZERO
+        } else {
+            sum / total
+        }
+    };
+    let mut hist_out = Vec::with_capacity(ao.len());
+    let mut out = Vec::with_capacity(ao.len());
+    for y in 0..h {
+        for x in 0..w {
+            let current = ao[at([x, y])];
+            let c = prepared[at([x, y])];
+            let (mut a, mut frames) = (current, 1.0);
+            if f.history != 0 && c.x > 0.0 {
+                let hv = reprojected(
+                    f.view_position(centre([x, y]), c.x),
+                    Vec3::new(c.y, c.z, c.w),
+                );
+                if hv.y > 0.0 {
+                    let (mut lo, mut hi) = (current, current);
+                    for i in 0..9 {
+                        let q = [x + i % 3 - 1, y + i / 3 - 1];
+                        if q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h {
+                            lo = lo.min(ao[at(q)]);
+                            hi = hi.max(ao[at(q)]);
+                        }
+                    }
+                    frames = (hv.y + 1.0).min(f.history_max);
+                    let held = hv.x.clamp(lo, hi);
+                    a = held + (current - held) * (1.0 / frames);
+                }
+            }
+            if c.x <= 0.0 {
+                frames = 0.0;
+            }
+            hist_out.push(Vec4::new(a, frames, c.x, 0.0));
+            out.push(a);
+        }
+    }
+    (hist_out, out)
 }
 
 /// Seed 003's box (`tent` false) or tent AO downsample, `size` → `ceil(size / 2)`;

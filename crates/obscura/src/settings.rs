@@ -249,12 +249,19 @@ impl Upsampler {
 /// Optional filtering of the AO at its working resolution, before upsampling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Denoise {
-    #[default]
     None,
-    /// Depth-aware separable blur: 9 taps horizontally then vertically (Gaussian σ = 2
-    /// pixels), each weighted by its distance from the centre's tangent plane (edge-stopping
-    /// on view-space depth). Two extra passes at the working resolution.
-    Blur,
+    /// Edge-aware spatial denoiser (shaders/denoise.wgsl): one pass of a joint bilateral
+    /// filter (Tomasi & Manduchi 1998; Kopf et al. 2007) over exactly one jitter period,
+    /// 3×3 for 2×2 deinterleaving, 5×5 for 4×4 patterns, whose spatial weights (1-2-1,
+    /// 1-2-2-2-1) give every sampling pattern the same total weight, so the dither pattern
+    /// cancels on a flat surface. Each tap is weighted by its distance from the centre's
+    /// tangent plane and the centre's from its own, and by the angle between normals, so
+    /// nothing crosses a depth edge or a crease. Lowers RMSE against ray-traced AO on every
+    /// shared view at every preset (docs/quality.md). The default: it wins per millisecond
+    /// (2×2 deinterleaved GTAO at 640×400 on lavapipe: mean RMSE 0.0665 → 0.0609 for about
+    /// 9 ms, where 8 steps instead of 4 cost as much and reach 0.0646).
+    #[default]
+    Spatial,
     /// Seed 003's 2×2 box downsample of the AO (4 taps), then upsampling from that half
     /// size: averages the 2×2 pattern tile. Not depth-aware.
     Box,
@@ -265,13 +272,13 @@ pub enum Denoise {
 
 impl Denoise {
     /// Every denoise choice.
-    pub const ALL: [Denoise; 4] = [Denoise::None, Denoise::Blur, Denoise::Box, Denoise::Tent];
+    pub const ALL: [Denoise; 4] = [Denoise::None, Denoise::Spatial, Denoise::Box, Denoise::Tent];
 
     /// Short name used by the CLI and reports.
     pub fn name(self) -> &'static str {
         match self {
             Denoise::None => "none",
-            Denoise::Blur => "blur",
+            Denoise::Spatial => "spatial",
             Denoise::Box => "box",
             Denoise::Tent => "tent",
         }
@@ -364,10 +371,17 @@ pub struct AoOptions {
     pub recentre: bool,
     /// Upsampler below full resolution (and after box/tent denoising). Default `Bilateral`.
     pub upsample: Upsampler,
-    /// Filtering at the working resolution. Default `None`.
+    /// Filtering at the working resolution. Default `Spatial`.
     pub denoise: Denoise,
     /// How the depth pyramid is built. Default `Auto`.
     pub pyramid: PyramidBuild,
+    /// Temporal accumulation (shaders/temporal.wgsl): keep a history of the AO, reproject
+    /// it with the camera motion of [`AoParams::motion`], reject it where the surface was
+    /// not visible (disocclusion), clamp it to the current 3×3 neighbourhood and blend it
+    /// with this frame's AO; the sampling patterns rotate every frame so frames stratify
+    /// together. 0 = off (default); N ≥ 2: at most N frames of history (the blend weight
+    /// of the current frame never drops below 1/N). Range 0 or 2..=256.
+    pub history: u32,
 }
 
 impl Default for AoOptions {
@@ -384,8 +398,9 @@ impl Default for AoOptions {
             downsample: DepthDownsample::Checkerboard,
             recentre: true,
             upsample: Upsampler::Bilateral,
-            denoise: Denoise::None,
+            denoise: Denoise::Spatial,
             pyramid: PyramidBuild::Auto,
+            history: 0,
         }
     }
 }
@@ -404,6 +419,27 @@ pub struct AoParams {
     /// The on-screen radius is clamped to this many pixels (keeps near-camera cost bounded).
     /// Range 1..=4096. Default 256.
     pub max_radius_px: f32,
+    /// How the camera moved since the previous frame (used with [`AoOptions::history`]).
+    /// Default [`CameraMotion::Still`].
+    pub motion: CameraMotion,
+}
+
+/// The camera's motion since the previous recorded frame, for temporal accumulation.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum CameraMotion {
+    /// The same camera as last frame (the history is reused as is).
+    #[default]
+    Still,
+    /// The camera moved: `previous_from_current` (column-major, `m[column][row]`) takes
+    /// this frame's view-space points to the previous frame's view space, i.e.
+    /// `previous_view * inverse(current_view)` for world-to-view matrices. Must be a rigid
+    /// motion (rotation and translation). The projection may change too; the previous one
+    /// is remembered.
+    Moved {
+        previous_from_current: [[f32; 4]; 4],
+    },
+    /// A camera cut: the history is discarded.
+    Cut,
 }
 
 impl Default for AoParams {
@@ -413,6 +449,7 @@ impl Default for AoParams {
             bias_angle_deg: 10.0,
             strength: 1.0,
             max_radius_px: 256.0,
+            motion: CameraMotion::Still,
         }
     }
 }
@@ -468,7 +505,22 @@ impl AoOptions {
             "steps",
             self.steps,
             "an integer in 1..=64",
+        )?;
+        check(
+            self.history == 0 || (2..=256).contains(&self.history),
+            "history",
+            self.history,
+            "0 (off) or a frame count in 2..=256",
         )
+    }
+
+    /// Side of the tile of sampling patterns on the AO's working grid: 2 in 2×2
+    /// deinterleaving, 4 otherwise (the randomized pass's 4×4 table, 4×4 layers).
+    pub fn pattern_period(&self) -> u32 {
+        match self.mode {
+            AoMode::Deinterleaved2 => 2,
+            AoMode::Randomized | AoMode::Deinterleaved4 => 4,
+        }
     }
 
     /// The screen-space reference of `estimator`: its integral brute-forced in one
@@ -494,7 +546,7 @@ impl AoOptions {
 
     /// Whether the AO is written straight to the output by the AO pass (no post-processing).
     pub fn direct(&self) -> bool {
-        self.resolution == Resolution::Full && self.denoise == Denoise::None
+        self.resolution == Resolution::Full && self.denoise == Denoise::None && self.history == 0
     }
 
     /// Samples per pixel of the AO pass.
@@ -534,7 +586,20 @@ impl AoParams {
             "max_radius_px",
             self.max_radius_px,
             "pixels in [1, 4096]",
-        )
+        )?;
+        if let CameraMotion::Moved {
+            previous_from_current: m,
+        } = self.motion
+        {
+            let rigid = crate::input::is_rigid(&m);
+            check(
+                rigid,
+                "motion",
+                format!("{m:?}"),
+                "a finite rigid transform (orthonormal rotation, translation, last row 0 0 0 1)",
+            )?;
+        }
+        Ok(())
     }
 }
 

@@ -20,7 +20,7 @@ pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Flo
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
-/// the blur): a sample farther than this fraction of the depth from the centre's tangent
+/// the denoiser, temporal reprojection): a sample farther than this fraction of the depth from the centre's tangent
 /// plane is on another surface. 2%: well above the depth change across a few pixels of a
 /// surface at 80° to the view (~1%), well below the gap between stacked objects.
 pub const PLANE_TOLERANCE: f32 = 0.02;
@@ -35,10 +35,15 @@ pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
 /// (VAO), whole-image RMSE 0.147 → 0.150 (VO) and 0.113 → 0.098 (VAO).
 pub const SPHERE_THICKNESS: f32 = 2.0;
 
-/// Tap weights of the depth-aware blur (shaders/blur.wgsl), `exp(-k² / 8)` for tap
-/// distance k = 0..4: a Gaussian of σ = 2 pixels, fixed at compile time (a unit test
-/// checks the values against the formula).
-pub const BLUR_WEIGHTS: [f32; 5] = [1.0, 0.882_496_9, 0.606_530_7, 0.324_652_5, 0.135_335_3];
+/// The spatial denoiser's tangent-plane tolerance is also at most this fraction of the AO
+/// radius (shaders/denoise.wgsl): AO changes over the scale of the radius, so on a distant
+/// view, where 2% of the depth spans several radii, points that far apart across a
+/// surface do not share AO. Chosen over all shared views among 0.05, 0.1, 0.25 and no
+/// limit (GTAO high, 2×2 deinterleaved, mean RMSE against ray-traced AO 0.0609, 0.0609,
+/// 0.0613, 0.0619).
+pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
+/// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth, 0)`.
+pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
 /// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
 pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
@@ -115,8 +120,11 @@ pub enum Pass {
     Downsample { rule: DepthDownsample, level: u32 },
     /// Low-resolution AO → full resolution.
     Upsample { upsampler: Upsampler },
-    /// One axis of the depth-aware blur.
-    Blur { vertical: bool },
+    /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
+    /// layers (fused deinterleaved modes).
+    Denoise { layers: bool },
+    /// Temporal accumulation (history reprojection, rejection, clamp, blend).
+    Temporal { layers: bool },
     /// AO 2×2 → 1 by seed 003's box or tent filter.
     AoDownsample { tent: bool },
 }
@@ -159,7 +167,11 @@ impl Pass {
         v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
         v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
         for b in [false, true] {
-            v.extend([Pass::Blur { vertical: b }, Pass::AoDownsample { tent: b }]);
+            v.extend([
+                Pass::Denoise { layers: b },
+                Pass::Temporal { layers: b },
+                Pass::AoDownsample { tent: b },
+            ]);
         }
         v
     }
@@ -206,8 +218,10 @@ impl Pass {
                 Upsampler::Classified => "upsample_classified",
                 Upsampler::Bilateral => "upsample_bilateral",
             },
-            Pass::Blur { vertical: false } => "blur_x",
-            Pass::Blur { vertical: true } => "blur_y",
+            Pass::Denoise { layers: false } => "denoise",
+            Pass::Denoise { layers: true } => "denoise_from_layers",
+            Pass::Temporal { layers: false } => "temporal",
+            Pass::Temporal { layers: true } => "temporal_from_layers",
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
         }
@@ -227,6 +241,13 @@ impl Pass {
         const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
         const PREPARE: &str = include_str!("../shaders/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("../shaders/downsample_rule.wgsl");
+        let prepared_source = |layers: bool| {
+            if layers {
+                include_str!("../shaders/prepared_layers.wgsl")
+            } else {
+                include_str!("../shaders/prepared_full.wgsl")
+            }
+        };
         match self {
             Pass::Prepare {
                 depth,
@@ -302,7 +323,18 @@ impl Pass {
                     Upsampler::Bilateral => include_str!("../shaders/upsample_bilateral.wgsl"),
                 },
             ],
-            Pass::Blur { .. } => vec![include_str!("../shaders/blur.wgsl")],
+            Pass::Denoise { layers } => {
+                vec![
+                    prepared_source(layers),
+                    include_str!("../shaders/denoise.wgsl"),
+                ]
+            }
+            Pass::Temporal { layers } => {
+                vec![
+                    prepared_source(layers),
+                    include_str!("../shaders/temporal.wgsl"),
+                ]
+            }
             Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
         }
     }
@@ -368,7 +400,21 @@ impl Pass {
             Pass::Pyramid { .. } | Pass::PyramidLevels => vec![],
             Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
             Pass::Downsample { rule: r, level } => rule(r, level),
-            Pass::Blur { vertical } => vec![("VERTICAL", vertical as u32 as f64)],
+            Pass::Denoise { layers } => {
+                let period = ("PERIOD", options.pattern_period() as f64);
+                if layers {
+                    vec![period, split]
+                } else {
+                    vec![period]
+                }
+            }
+            Pass::Temporal { layers } => {
+                if layers {
+                    vec![split]
+                } else {
+                    vec![]
+                }
+            }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),
             Pass::AoLayered { estimator: e, .. } => {
@@ -401,11 +447,10 @@ pub fn prelude() -> String {
          const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
-         const BLUR_WEIGHTS: array<f32, 5> = array<f32, 5>({});\n\
+         const DENOISE_RADIUS_TOLERANCE: f32 = {DENOISE_RADIUS_TOLERANCE:?};\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
          {}",
-        wgsl_floats(&BLUR_WEIGHTS),
         wgsl_floats(&TENT_WEIGHTS),
         FrameUniforms::wgsl()
     )
@@ -426,17 +471,4 @@ pub fn dispatch_size(size: [u32; 2]) -> (u32, u32) {
         size[0].div_ceil(WORKGROUP_SIZE),
         size[1].div_ceil(WORKGROUP_SIZE),
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn blur_weights_are_the_stated_gaussian() {
-        for (k, w) in BLUR_WEIGHTS.iter().enumerate() {
-            let want = (-((k * k) as f32) / 8.0).exp();
-            assert!((w - want).abs() < 1e-6, "tap {k}: {w} vs {want}");
-        }
-    }
 }

@@ -48,6 +48,15 @@ crate::gpu_struct! {
         /// Columns (xyz; w unused) of the rotation taking the caller's normals to view
         /// space (identity for view-space normals, see [`NormalEncoding::to_view`]).
         pub normal_to_view: [[f32; 4]; 3],
+        /// Temporal accumulation: takes this frame's view-space points to the previous
+        /// frame's (columns).
+        pub prev_from_view: [[f32; 4]; 4],
+        /// The previous frame's `ndc_to_view`.
+        pub prev_ndc_to_view: [f32; 2],
+        /// 1 when the history holds the previous frame (same size, no cut or reset).
+        pub history: u32,
+        /// Most frames the history averages ([`crate::AoOptions::history`]).
+        pub history_max: f32,
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
@@ -110,6 +119,10 @@ impl FrameUniforms {
             pyramid_offset: 0,
             full_size: [viewport.width, viewport.height],
             normal_to_view: rotation.map(|c| [c[0], c[1], c[2], 0.0]),
+            prev_from_view: glam::Mat4::IDENTITY.to_cols_array_2d(),
+            prev_ndc_to_view: scale,
+            history: 0,
+            history_max: options.history.max(1) as f32,
             patterns: if options.jitter {
                 pattern_table(options.directions)
             } else {
@@ -258,6 +271,7 @@ mod tests {
                 jitter: pick(2) == 0,
                 recentre: pick(2) == 0,
                 pyramid: crate::PyramidBuild::ALL[pick(3)],
+                history: [0, 1, 2, 16, 300][pick(5)],
             };
             // Caller normals: none, view space, or world space with a rotation whose
             // entries may be awkward too.
@@ -281,6 +295,18 @@ mod tests {
                 bias_angle_deg: f(10.0),
                 strength: f(1.0),
                 max_radius_px: f(256.0),
+                motion: match pick(3) {
+                    0 => crate::CameraMotion::Still,
+                    1 => crate::CameraMotion::Cut,
+                    _ => crate::CameraMotion::Moved {
+                        previous_from_current: [
+                            [f(1.0), f(0.0), f(0.0), f(0.0)],
+                            [f(0.0), f(1.0), f(0.0), f(0.0)],
+                            [f(0.0), f(0.0), f(1.0), f(0.0)],
+                            [f(0.0), f(0.0), f(0.0), f(1.0)],
+                        ],
+                    },
+                },
             };
             let projection = if pick(2) == 0 {
                 Projection::Perspective {

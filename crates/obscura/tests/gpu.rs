@@ -281,9 +281,11 @@ impl Yzw for Vec4 {
     }
 }
 
+/// The randomized single pass, without denoising (the estimator's own output).
 fn randomized() -> AoOptions {
     AoOptions {
         mode: AoMode::Randomized,
+        denoise: Denoise::None,
         ..Default::default()
     }
 }
@@ -302,6 +304,7 @@ fn all_variants() -> Vec<AoOptions> {
                     estimator,
                     mode,
                     fused,
+                    denoise: Denoise::None,
                     ..Default::default()
                 });
             }
@@ -1080,7 +1083,7 @@ fn timed_runs_report_every_pass_in_order() {
     let tex = upload_r32(&raw, W, H);
     let view = tex.create_view(&Default::default());
     let input = linear_input(&view, p);
-    let expected: [(AoOptions, &[&str]); 3] = [
+    let expected: [(AoOptions, &[&str]); 4] = [
         (
             AoOptions {
                 estimator: Estimator::Hbao,
@@ -1090,11 +1093,28 @@ fn timed_runs_report_every_pass_in_order() {
         ),
         (
             AoOptions::default(),
-            &["prepare_float_split", "gtao_layers_merge"],
+            &[
+                "prepare_float_split",
+                "gtao_layers_merge",
+                "denoise_from_layers",
+            ],
+        ),
+        (
+            AoOptions {
+                history: 8,
+                ..Default::default()
+            },
+            &[
+                "prepare_float_split",
+                "gtao_layers_merge",
+                "temporal_from_layers",
+                "denoise_from_layers",
+            ],
         ),
         (
             AoOptions {
                 fused: false,
+                denoise: Denoise::None,
                 ..Default::default()
             },
             &["prepare_float", "deinterleave", "gtao_layers", "interleave"],
@@ -1314,6 +1334,7 @@ fn mixed_resolution_matches_cpu_reference() {
                     upsample: upsampler,
                     mode: AoMode::Randomized,
                     fused: false,
+                    denoise: Denoise::None,
                     ..Default::default()
                 };
                 let what = format!("{resolution:?} {rule:?} {upsampler:?}");
@@ -1643,7 +1664,13 @@ fn frames_create_no_gpu_objects() {
         AoOptions {
             estimator: Estimator::Sao,
             resolution: Resolution::Half,
-            denoise: Denoise::Blur,
+            denoise: Denoise::Spatial,
+            history: 8,
+            ..Default::default()
+        },
+        AoOptions {
+            denoise: Denoise::Spatial,
+            history: 16,
             ..Default::default()
         },
         AoOptions {
@@ -1881,8 +1908,12 @@ fn caller_output_receives_the_same_ao() {
             ..Default::default()
         },
         AoOptions {
-            denoise: Denoise::Blur,
+            denoise: Denoise::Spatial,
             ..randomized()
+        },
+        AoOptions {
+            history: 4,
+            ..Default::default()
         },
     ] {
         let own = {
@@ -2115,11 +2146,12 @@ fn every_convention_projection_and_format_gives_the_same_ao() {
 }
 
 /// Denoising matches its CPU mirror, applied to the same frame's AO without denoising:
-/// the depth-aware blur at full and half resolution (the blurred working AO), and the box
-/// and tent downsamples followed by upsampling (the output); and the blur is depth-aware:
-/// on a step edge it leaves the open near side open while it smooths the AO.
+/// the spatial denoiser at full resolution (randomized: 5×5; fused 2×2 deinterleaving,
+/// reading the prepared layers: 3×3) and half resolution (the denoised working AO), and
+/// the box and tent downsamples followed by upsampling (the output); and the denoiser is
+/// edge-aware: on a step edge it leaves the open near side open.
 #[test]
-fn denoise_matches_cpu_reference_and_the_blur_stops_at_edges() {
+fn denoise_matches_cpu_reference_and_stops_at_edges() {
     let _g = lock();
     let p = persp(W, H);
     let raw = test_scene(&p, W, H);
@@ -2154,43 +2186,65 @@ fn denoise_matches_cpu_reference_and_the_blur_stops_at_edges() {
             gpu.len()
         );
     };
+    let spatial_cases = [
+        (Resolution::Full, randomized()),
+        (
+            Resolution::Full,
+            AoOptions {
+                denoise: Denoise::None,
+                ..Default::default()
+            },
+        ),
+        (
+            Resolution::Half,
+            AoOptions {
+                fused: false,
+                ..randomized()
+            },
+        ),
+    ];
+    for (resolution, o) in spatial_cases {
+        let base = AoOptions { resolution, ..o };
+        let denoised = run(AoOptions {
+            denoise: Denoise::Spatial,
+            ..base
+        });
+        let none = run(base);
+        // The AO before denoising: the working AO below full resolution, the output at full.
+        let (before, after) = if resolution == Resolution::Full {
+            (&none.ao, &denoised.ao)
+        } else {
+            (&none.work_ao, &denoised.work_ao)
+        };
+        let work = denoised.frame.at_factor(resolution.factor());
+        let prepared = if resolution == Resolution::Full {
+            reference::prepare(&work, &raw, W)
+        } else {
+            none.levels[0].clone()
+        };
+        let cpu = reference::denoise(&work, &prepared, before, base.pattern_period());
+        let what = format!("{resolution:?} {:?} spatial", base.mode);
+        check(after, &cpu, &what);
+        assert!(
+            before
+                .iter()
+                .zip(after.iter())
+                .any(|(a, b)| (a - b).abs() > 1e-3),
+            "{what}: the denoiser changed nothing"
+        );
+    }
     for resolution in [Resolution::Full, Resolution::Half] {
         let base = AoOptions {
             resolution,
             fused: false,
             ..randomized()
         };
-        let plain = run(AoOptions {
-            denoise: Denoise::Blur,
-            ..base
-        });
         let none = run(base);
-        // The AO before denoising: the working AO below full resolution, the output at full.
-        let (before, after) = if resolution == Resolution::Full {
-            (&none.ao, &plain.ao)
+        let before = if resolution == Resolution::Full {
+            &none.ao
         } else {
-            (&none.work_ao, &plain.work_ao)
+            &none.work_ao
         };
-        let work = plain.frame.at_factor(resolution.factor());
-        let prepared = if resolution == Resolution::Full {
-            &none.prepared
-        } else {
-            &none.levels[0]
-        };
-        let cpu = reference::blur(
-            &work,
-            prepared,
-            &reference::blur(&work, prepared, before, false),
-            true,
-        );
-        check(after, &cpu, &format!("{resolution:?} blur"));
-        assert!(
-            before
-                .iter()
-                .zip(after.iter())
-                .any(|(a, b)| (a - b).abs() > 1e-3),
-            "{resolution:?}: the blur changed nothing"
-        );
         for tent in [false, true] {
             let denoise = if tent { Denoise::Tent } else { Denoise::Box };
             let r = run(AoOptions { denoise, ..base });
@@ -2209,8 +2263,8 @@ fn denoise_matches_cpu_reference_and_the_blur_stops_at_edges() {
             check(&r.ao, &cpu, &format!("{resolution:?} {denoise:?}"));
         }
     }
-    // Edge stopping: a step edge's far side is occluded next to the edge; blurred, the near
-    // side stays open (a plain Gaussian would carry the far side's darkness over).
+    // Edge stopping: a step edge's far side is occluded next to the edge; denoised, the
+    // near side stays open (a plain box filter would carry the far side's darkness over).
     let (w, h, edge) = (67, 21, 33);
     let depth = step_edge(w, h, edge, 4.0, 8.0);
     let params = AoParams {
@@ -2225,7 +2279,7 @@ fn denoise_matches_cpu_reference_and_the_blur_stops_at_edges() {
         DepthConvention::LinearView,
         None,
         AoOptions {
-            denoise: Denoise::Blur,
+            denoise: Denoise::Spatial,
             ..randomized()
         },
         &params,
@@ -2236,7 +2290,7 @@ fn denoise_matches_cpu_reference_and_the_blur_stops_at_edges() {
         .fold(1.0f32, |m, &a| m.min(a));
     assert!(
         near_min > 0.999,
-        "the blur bled across the edge: {near_min}"
+        "the denoiser bled across the edge: {near_min}"
     );
     assert!(
         r.ao[row + edge as usize] < 0.9,

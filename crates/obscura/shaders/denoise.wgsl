@@ -1,0 +1,65 @@
+// Edge-aware spatial denoiser at the AO's working resolution: one pass of a joint
+// bilateral filter (Tomasi & Manduchi 1998; Kopf et al. 2007, "Joint Bilateral
+// Upsampling") guided by depth and normals, in the spirit of XeGTAO's denoiser (a small
+// kernel over the noise period). Composed after prepared_full.wgsl or prepared_layers.wgsl.
+//
+// The kernel spans exactly one period of the sampling patterns (PERIOD 2: 3×3, PERIOD 4:
+// 5×5) with spatial weights 1-2-1 or 1-2-2-2-1 per axis: the two end taps share a residue
+// modulo the period, so every pattern of the tile gets the same total weight and the
+// dither cancels on a flat surface (seed 003's tent filter has the same property for 2).
+// Each tap is further weighted by
+//   plane:  exp(-(z / tolerance)^2), z the larger of the tap's distance from the centre's
+//           tangent plane and the centre's from the tap's (a crease fails one of the two),
+//           tolerance = min(PLANE_TOLERANCE x depth, DENOISE_RADIUS_TOLERANCE x radius):
+//           AO changes over the scale of the AO radius, so points farther apart than a
+//           fraction of it across the surface do not share AO;
+//   normal: max(n_tap . n, 0)^8 (halves at 25 degrees), as the bilateral upsampler.
+// Sky taps are skipped; sky pixels pass through. CPU mirror: src/reference.rs, `denoise`.
+
+override PERIOD: u32 = 2u;
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(2) var ao_in: texture_2d<f32>;
+@group(0) @binding(3) var ao_out: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(WG_SIZE, WG_SIZE)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if any(gid.xy >= frame.size) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    let centre = prepared_at(p);
+    var ao = textureLoad(ao_in, p, 0).x;
+    if centre.x > 0.0 {
+        let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
+        let n = centre.yzw;
+        let inv_tol = 1.0 / min(PLANE_TOLERANCE * centre.x, DENOISE_RADIUS_TOLERANCE * frame.radius);
+        let r = i32(PERIOD / 2u);
+        let size = vec2<i32>(frame.size);
+        var sum = 0.0;
+        var total = 0.0;
+        for (var dy = -r; dy <= r; dy++) {
+            for (var dx = -r; dx <= r; dx++) {
+                let q = p + vec2<i32>(dx, dy);
+                if any(q < vec2<i32>(0)) || any(q >= size) {
+                    continue;
+                }
+                let s = prepared_at(q);
+                if s.x <= 0.0 {
+                    continue;
+                }
+                let off = view_position(vec2<f32>(q) + 0.5, s.x) - pos;
+                let z = max(abs(dot(off, n)), abs(dot(off, s.yzw))) * inv_tol;
+                let c = max(dot(s.yzw, n), 0.0);
+                let c2 = c * c;
+                let c4 = c2 * c2;
+                let spatial = select(2.0, 1.0, abs(dx) == r) * select(2.0, 1.0, abs(dy) == r);
+                let w = spatial * exp(-z * z) * c4 * c4;
+                sum += w * textureLoad(ao_in, q, 0).x;
+                total += w;
+            }
+        }
+        ao = sum / total;
+    }
+    textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
+}
