@@ -497,7 +497,10 @@ impl TemporalState {
             f.prev_from_view = previous_from_current;
         }
         if o.jitter {
-            f.patterns = crate::jitter::pattern_table_frame(o.directions, self.frame);
+            f.patterns = crate::jitter::pattern_table_frame(
+                crate::jitter::rotation_sector(o.estimator, o.directions),
+                self.frame,
+            );
         }
         self.frame = self.frame.wrapping_add(1);
         self.valid = true;

@@ -13,13 +13,24 @@ pub const PATTERN_COUNT: usize = (PATTERN_DIM * PATTERN_DIM) as usize;
 /// top-left block, is stratified too.
 const BAYER4: [u32; PATTERN_COUNT] = [0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5];
 
-/// The pattern table for `directions` directions: entry `k = x + 4y` is
-/// `(cos θ, sin θ, offset, 0)`, with θ a rotation in `[0, 2π/directions)` and `offset` the
+/// The rotation that maps an estimator's set of directions onto itself: π/D for GTAO's D
+/// slices (each slice is a line marched both ways), 2π/D for D directions otherwise. The
+/// patterns' rotations divide this sector; with 2π/D for GTAO, the 2×2 tile's four
+/// rotations would fall on two pairs of nearly equal slice sets.
+pub fn rotation_sector(estimator: crate::Estimator, directions: u32) -> f32 {
+    let turn = match estimator {
+        crate::Estimator::Gtao => std::f32::consts::PI,
+        _ => std::f32::consts::TAU,
+    };
+    turn / directions.max(1) as f32
+}
+
+/// The pattern table for rotation sector `sector` ([`rotation_sector`]): entry `k = x + 4y`
+/// is `(cos θ, sin θ, offset, 0)`, with θ a rotation in `[0, sector)` and `offset` the
 /// fraction of one ray step by which marching starts. Rotation ranks follow the Bayer
 /// matrix and offset ranks its reversed transpose, so both are stratified over the 16
 /// entries and over the top-left 2×2 block.
-pub fn pattern_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
-    let sector = std::f32::consts::TAU / directions.max(1) as f32;
+pub fn pattern_table(sector: f32) -> [[f32; 4]; PATTERN_COUNT] {
     let n = PATTERN_COUNT as f32;
     std::array::from_fn(|k| {
         let (x, y) = (k % 4, k / 4);
@@ -48,13 +59,12 @@ pub fn frame_shift(k: u32) -> [f32; 2] {
 /// range, so each pixel on its own sees every direction and offset over frames, while
 /// within a frame the entries stay as stratified as in [`pattern_table`] (they all move
 /// together). Frame 0 is [`pattern_table`].
-pub fn pattern_table_frame(directions: u32, frame: u32) -> [[f32; 4]; PATTERN_COUNT] {
+pub fn pattern_table_frame(sector: f32, frame: u32) -> [[f32; 4]; PATTERN_COUNT] {
     if frame == 0 {
-        return pattern_table(directions);
+        return pattern_table(sector);
     }
-    let sector = std::f32::consts::TAU / directions.max(1) as f32;
     let [u, v] = frame_shift(frame);
-    pattern_table(directions).map(|[c, s, o, w]| {
+    pattern_table(sector).map(|[c, s, o, w]| {
         let theta = s.atan2(c) + (u - 0.5) * sector;
         [theta.cos(), theta.sin(), (o + v - 0.5).rem_euclid(1.0), w]
     })
@@ -62,8 +72,8 @@ pub fn pattern_table_frame(directions: u32, frame: u32) -> [[f32; 4]; PATTERN_CO
 
 /// The table with every entry the same fixed pattern: rotation half a sector, offset ½
 /// (no jitter; [`crate::AoOptions::jitter`]).
-pub fn fixed_table(directions: u32) -> [[f32; 4]; PATTERN_COUNT] {
-    let theta = 0.5 * std::f32::consts::TAU / directions.max(1) as f32;
+pub fn fixed_table(sector: f32) -> [[f32; 4]; PATTERN_COUNT] {
+    let theta = 0.5 * sector;
     [[theta.cos(), theta.sin(), 0.5, 0.0]; PATTERN_COUNT]
 }
 
@@ -94,15 +104,15 @@ mod tests {
 
     #[test]
     fn frames_cover_the_sector_evenly() {
-        assert_eq!(pattern_table_frame(4, 0), pattern_table(4));
+        let sector = std::f32::consts::TAU / 4.0;
+        assert_eq!(pattern_table_frame(sector, 0), pattern_table(sector));
         // Over 16 frames one entry's rotations fall in 16 distinct sixteenths of the sector
         // and its offsets spread over the range.
-        let sector = std::f32::consts::TAU / 4.0;
-        let first = pattern_table(4)[0];
+        let first = pattern_table(sector)[0];
         let start = first[1].atan2(first[0]);
         let (mut rot, mut off) = ([0; 16], [0; 4]);
         for k in 0..16 {
-            let [c, s, o, _] = pattern_table_frame(4, k)[0];
+            let [c, s, o, _] = pattern_table_frame(sector, k)[0];
             let d = ((s.atan2(c) - start) / sector + 0.5).rem_euclid(1.0);
             rot[(d * 16.0) as usize] += 1;
             assert!((0.0..1.0).contains(&o));
@@ -115,7 +125,7 @@ mod tests {
     #[test]
     fn patterns_are_stratified_for_4x4_and_2x2() {
         let sector = std::f32::consts::TAU / 8.0;
-        let t = pattern_table(8);
+        let t = pattern_table(sector);
         let all: Vec<usize> = (0..PATTERN_COUNT).collect();
         assert_eq!(bins(&t, &all, sector), (vec![1; 16], vec![1; 16]));
         let two: Vec<usize> = (0..4).map(|l| pattern_index(l % 2, l / 2, 2)).collect();

@@ -124,9 +124,15 @@ impl FrameUniforms {
             history: 0,
             history_max: options.history.max(1) as f32,
             patterns: if options.jitter {
-                pattern_table(options.directions)
+                pattern_table(crate::jitter::rotation_sector(
+                    options.estimator,
+                    options.directions,
+                ))
             } else {
-                fixed_table(options.directions)
+                fixed_table(crate::jitter::rotation_sector(
+                    options.estimator,
+                    options.directions,
+                ))
             },
         };
         // Extreme but individually valid parameters (a half height of 1e-38, radius 1e30)

@@ -1467,7 +1467,11 @@ fn upsampling_keeps_constants_and_is_the_identity_at_factor_one() {
         );
         for (i, (a, b)) in out.iter().zip(&r.ao).enumerate() {
             let sky = r.prepared[i].x <= 0.0;
-            assert!(sky || a == b, "{upsampler:?}: pixel {i} {a} != {b}");
+            // Weights renormalised over equal values: equal up to rounding.
+            assert!(
+                sky || (a - b).abs() <= 1e-6,
+                "{upsampler:?}: pixel {i} {a} != {b}"
+            );
         }
     }
 }
@@ -2325,6 +2329,7 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
                     estimator,
                     directions: 6,
                     steps: 5,
+                    denoise: Denoise::None,
                     ..Default::default()
                 };
                 let r = run_ao(
