@@ -760,11 +760,6 @@ pub fn temporal(
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let m = glam::Mat4::from_cols_array_2d(&f.prev_from_view);
-    let prev_view = |p: [f32; 2], d: f32| {
-        let mut g = *f;
-        g.ndc_to_view = f.prev_ndc_to_view;
-        g.view_position(p, d)
-    };
     // The history (AO, frames) where `pos` was last frame; (0, 0) when no texel is valid.
     let reprojected = |pos: Vec3, n: Vec3| -> glam::Vec2 {
         let prev = m.transform_point3(pos);
@@ -791,7 +786,7 @@ pub fn temporal(
             if hv.z <= 0.0 {
                 continue;
             }
-            let q = prev_view(centre(t), hv.z);
+            let q = f.view_position_scaled(centre(t), hv.z, f.prev_ndc_to_view);
             if (q - prev).dot(prev_n).abs() >= PLANE_TOLERANCE * depth {
                 continue;
             }

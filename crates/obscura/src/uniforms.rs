@@ -201,11 +201,17 @@ impl FrameUniforms {
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
     /// Mirrors `view_position` in shaders/common.wgsl.
     pub fn view_position(&self, p: [f32; 2], d: f32) -> glam::Vec3 {
+        self.view_position_scaled(p, d, self.ndc_to_view)
+    }
+
+    /// [`FrameUniforms::view_position`] with another projection's `ndc_to_view` (the
+    /// previous frame's); mirrors `view_position_scaled` in shaders/common.wgsl.
+    pub fn view_position_scaled(&self, p: [f32; 2], d: f32, ndc_to_view: [f32; 2]) -> glam::Vec3 {
         let ndc = glam::Vec2::new(
             p[0] * self.inv_size[0] * 2.0 - 1.0,
             1.0 - p[1] * self.inv_size[1] * 2.0,
         );
-        let mut xy = ndc * glam::Vec2::from(self.ndc_to_view);
+        let mut xy = ndc * glam::Vec2::from(ndc_to_view);
         if self.perspective != 0 {
             xy *= d;
         }

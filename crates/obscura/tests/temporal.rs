@@ -80,7 +80,6 @@ struct Frame {
     uniforms: obscura::uniforms::FrameUniforms,
 }
 
-/// The temporal pass on its own (no denoiser after it), so the output is what it wrote.
 /// Records one frame of `depth` and reads back the output, the raw AO before the temporal
 /// pass and the history it wrote.
 fn frame(ao: &mut Ao, depth: &[f32], params: &AoParams) -> Frame {
@@ -98,6 +97,19 @@ fn frame(ao: &mut Ao, depth: &[f32], params: &AoParams) -> Frame {
         history: hist.chunks_exact(4).map(Vec4::from_slice).collect(),
         uniforms,
     }
+}
+
+/// An `Ao` with `options` but no denoiser after the temporal pass, so the output is what
+/// the temporal pass wrote.
+fn temporal_ao(options: AoOptions) -> Ao {
+    Ao::new(
+        &ctx().device,
+        AoOptions {
+            denoise: Denoise::None,
+            ..options
+        },
+    )
+    .unwrap()
 }
 
 fn params(motion: CameraMotion) -> AoParams {
@@ -124,13 +136,11 @@ fn temporal_pass_matches_cpu_mirror_after_a_move() {
     let v1 = view_matrix(Vec3::new(0.25, 1.55, 1.9), Vec3::new(0.1, 0.6, -3.0));
     let (d0, d1) = (scene_depth(v0), scene_depth(v1));
     for mode in [AoMode::Randomized, AoMode::Deinterleaved2] {
-        let options = AoOptions {
+        let mut ao = temporal_ao(AoOptions {
             mode,
             history: 8,
-            denoise: Denoise::None,
             ..Default::default()
-        };
-        let mut ao = Ao::new(&ctx().device, options).unwrap();
+        });
         let f0 = frame(&mut ao, &d0, &params(CameraMotion::Still));
         let f1 = frame(&mut ao, &d1, &params(moved(v0, v1)));
         // The frame's uniforms as the library fills them for frame 1.
@@ -196,17 +206,12 @@ fn still_camera_converges_toward_the_integral() {
             .sum();
         (s / a.len() as f64).sqrt()
     };
-    let mut ao = Ao::new(
-        &c.device,
-        AoOptions {
-            history: 32,
-            steps: 16,
-            mode: AoMode::Randomized,
-            denoise: Denoise::None,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut ao = temporal_ao(AoOptions {
+        history: 32,
+        steps: 16,
+        mode: AoMode::Randomized,
+        ..Default::default()
+    });
     let first = frame(&mut ao, &depth, &p);
     let mut last = first.ao.clone();
     let mut e4 = 0.0;
@@ -240,15 +245,10 @@ fn camera_move_keeps_history_where_visible_and_drops_it_where_disoccluded() {
     let v0 = view_matrix(Vec3::new(-0.6, 1.0, 1.0), Vec3::new(-0.6, 0.8, -3.0));
     let v1 = view_matrix(Vec3::new(0.6, 1.0, 1.0), Vec3::new(0.6, 0.8, -3.0));
     let (d0, d1) = (scene_depth(v0), scene_depth(v1));
-    let mut ao = Ao::new(
-        &ctx().device,
-        AoOptions {
-            history: 8,
-            denoise: Denoise::None,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut ao = temporal_ao(AoOptions {
+        history: 8,
+        ..Default::default()
+    });
     for _ in 0..4 {
         frame(&mut ao, &d0, &params(CameraMotion::Still));
     }
@@ -312,15 +312,10 @@ fn camera_move_keeps_history_where_visible_and_drops_it_where_disoccluded() {
 fn history_resets_on_reset_cut_and_resize() {
     let v = view_matrix(Vec3::new(0.0, 1.5, 2.0), Vec3::new(0.0, 0.6, -3.0));
     let depth = scene_depth(v);
-    let mut ao = Ao::new(
-        &ctx().device,
-        AoOptions {
-            history: 8,
-            denoise: Denoise::None,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut ao = temporal_ao(AoOptions {
+        history: 8,
+        ..Default::default()
+    });
     let frames_at_centre = |f: &Frame| f.history[(H / 2 * W + W / 2) as usize].y;
     let still = params(CameraMotion::Still);
     for k in 1..=3 {
