@@ -71,6 +71,11 @@ pub struct EvalArgs {
     pub estimators: Vec<EstimatorArg>,
     #[command(flatten)]
     pub samples: SampleArgs,
+    /// Sample splits to compare in one run, timed interleaved (comma-separated
+    /// DIRECTIONSxSTEPS, e.g. 4x4,4x8,2x8); each runs with every estimator, mode, resolution
+    /// and denoiser. Overrides --preset, --directions and --steps.
+    #[arg(long, value_parser = parse_split, value_delimiter = ',')]
+    pub splits: Vec<(u32, u32)>,
     /// Pass layouts to evaluate (comma-separated); every estimator runs in every mode.
     #[arg(
         long,
@@ -173,6 +178,16 @@ struct TemporalFigures {
     /// 5 frames): their RMSE after the orbit, their RMSE in the still camera's converged
     /// image, and how many there are.
     disoccluded: Option<(f32, f32, usize)>,
+}
+
+/// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
+fn parse_split(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected DIRECTIONSxSTEPS such as 4x8, got `{s}`");
+    let (d, st) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    Ok((
+        d.trim().parse().map_err(|_| bad())?,
+        st.trim().parse().map_err(|_| bad())?,
+    ))
 }
 
 fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
@@ -304,14 +319,28 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
     let mut variants: Vec<(String, AoOptions)> = Vec::new();
+    let splits: Vec<Option<(u32, u32)>> = if a.splits.is_empty() {
+        vec![None]
+    } else {
+        a.splits.iter().copied().map(Some).collect()
+    };
     for &e in &a.estimators {
-        for &m in &a.modes {
+        for (&m, split) in a
+            .modes
+            .iter()
+            .flat_map(|m| splits.iter().map(move |s| (m, s)))
+        {
             let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
-            let base = AoOptions {
+            let mut base = AoOptions {
                 mode,
                 ..a.samples.options(estimator)
             };
-            let name = format!("{} {}", estimator.name(), mode.name());
+            let mut name = format!("{} {}", estimator.name(), mode.name());
+            if let Some((directions, steps)) = *split {
+                base.directions = directions;
+                base.steps = steps;
+                name = format!("{name} {directions}×{steps}");
+            }
             for &resolution in &a.resolutions {
                 for &denoise in &a.denoise {
                     if resolution == Resolution::Full {
@@ -1054,4 +1083,18 @@ fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
     }
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_split;
+
+    #[test]
+    fn splits_parse_and_refuse_what_is_not_a_split() {
+        assert_eq!(parse_split("4x8"), Ok((4, 8)));
+        assert_eq!(parse_split("2×16"), Ok((2, 16)));
+        for bad in ["4", "x8", "4x", "ax8", "4x8x2", "-1x4"] {
+            assert!(parse_split(bad).is_err(), "`{bad}` parsed");
+        }
+    }
 }

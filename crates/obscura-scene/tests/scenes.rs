@@ -3,7 +3,7 @@
 //! beside the repository (as on every developer machine and in CI) and fails without it.
 
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Estimator, GpuContext,
+    Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention, Estimator, GpuContext,
     NormalEncoding, Preset,
 };
 use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh, SceneError};
@@ -247,16 +247,19 @@ fn every_estimator_converges_to_its_screen_space_reference() {
             reference.iter().any(|&a| a < 0.7),
             "{estimator:?}: the reference has occlusion"
         );
+        // Raw samples, as the reference: no denoiser between them.
         let errors: Vec<f32> = Preset::ALL
             .into_iter()
             .map(|preset| AoOptions {
                 mode: AoMode::Randomized,
+                denoise: Denoise::None,
                 ..AoOptions::preset(estimator, preset)
             })
             .chain([AoOptions {
                 directions: 32,
                 steps: 32,
                 mode: AoMode::Randomized,
+                denoise: Denoise::None,
                 ..AoOptions::preset(estimator, Preset::Ultra)
             }])
             .map(|o| rmse(&render_with(&mesh, &cam, w, h, 1.0, o).1, &reference))

@@ -16,12 +16,28 @@
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
 
+const PI: f32 = 3.141592653589793;
 const HALF_PI: f32 = 1.5707963267948966;
 
-// Cosine-weighted integral of the arc from the normal's angle n to horizon angle h
-// (Jimenez et al., eq. 10), per side.
-fn gtao_arc(h: f32, n: f32, cos_n: f32) -> f32 {
-    return (cos_n + 2.0 * h * sin(n) - cos(2.0 * h - n)) * 0.25;
+// acos with |error| <= 1e-4 rad on [-1, 1]: a square root and a cubic (Abramowitz & Stegun
+// 1964, 4.4.45: |error| <= 5e-5 on [0, 1]; acos(-x) = pi - acos(x)), cheaper than the
+// driver's acos. Mirror: `reference::fast_acos`, whose bound a test checks.
+fn fast_acos(x: f32) -> f32 {
+    let a = abs(x);
+    let r = sqrt(1.0 - a) * (1.5707288 + a * (-0.2121144 + a * (0.074261 - 0.0187293 * a)));
+    return select(r, PI - r, x < 0.0);
+}
+
+// One side's cosine-weighted visible arc (Jimenez et al., eq. 10): from the normal's angle
+// n to the horizon h = s * acos(c) (s = +1 or -1, the side), h clamped to the normal's
+// hemisphere. cos(2h - n) comes from the double-angle formulas, or is -cos(n) where the
+// clamp holds (h = n +- pi/2), so the slice needs no trigonometric call.
+fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let t = s * fast_acos(c) - n;
+    let h = n + clamp(t, -HALF_PI, HALF_PI);
+    let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
+    let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
+    return (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
 }
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
@@ -39,11 +55,14 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let size = vec2<i32>(frame.size);
     var visibility = 0.0;
     var weights = 0.0;
+    // Slices cover half a turn (each marches both ways): the pattern's direction, turned by
+    // pi / DIRECTIONS after each slice.
+    let turn = vec2<f32>(cos(PI / f32(DIRECTIONS)), sin(PI / f32(DIRECTIONS)));
+    var dir = pattern.xy;
     for (var i = 0u; i < DIRECTIONS; i++) {
-        // Slices cover half a turn: each marches both ways.
-        let a = f32(i) * (3.141592653589793 / f32(DIRECTIONS));
-        let base = vec2<f32>(cos(a), sin(a));
-        let dir = vec2<f32>(base.x * pattern.x - base.y * pattern.y, base.x * pattern.y + base.y * pattern.x);
+        if i > 0u {
+            dir = vec2<f32>(dir.x * turn.x - dir.y * turn.y, dir.x * turn.y + dir.y * turn.x);
+        }
         // The slice plane holds V and the screen direction (y flips from pixels to view).
         let dir3 = vec3<f32>(dir.x, -dir.y, 0.0);
         let ortho = dir3 - dot(dir3, v) * v;
@@ -60,10 +79,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             continue;
         }
         let cos_n = clamp(dot(proj_n, v) / proj_len, -1.0, 1.0);
-        let n = sign(dot(ortho, proj_n)) * acos(cos_n);
-        // Horizon cosines start at the tangent plane's (the normal's hemisphere edge).
-        var hc0 = cos(n + HALF_PI);
-        var hc1 = cos(n - HALF_PI);
+        let sgn = sign(dot(ortho, proj_n));
+        let n = sgn * fast_acos(cos_n);
+        let sin_n = sgn * sqrt(1.0 - cos_n * cos_n);
+        // Horizon cosines start at the tangent plane's (the normal's hemisphere edge):
+        // cos(n + pi/2) and cos(n - pi/2).
+        var hc0 = -sin_n;
+        var hc1 = sin_n;
         var ray = pattern.z * step_px + 1.0;
         for (var s = 0u; s < STEPS; s++) {
             let off = snap_offset(dir * ray);
@@ -97,9 +119,8 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             }
         }
         // Side 0 marched along +dir (positive angles), side 1 along -dir.
-        let h0 = n + clamp(acos(hc0) - n, -HALF_PI, HALF_PI);
-        let h1 = n + clamp(-acos(hc1) - n, -HALF_PI, HALF_PI);
-        visibility += weight * proj_len * (gtao_arc(h0, n, cos_n) + gtao_arc(h1, n, cos_n));
+        let arcs = gtao_side(hc0, 1.0, n, cos_n, sin_n) + gtao_side(hc1, -1.0, n, cos_n, sin_n);
+        visibility += weight * proj_len * arcs;
     }
     let per_slice = f32(DIRECTIONS) * visibility / weights;
     return clamp(1.0 - (f32(DIRECTIONS) - per_slice) * frame.ao_scale, 0.0, 1.0);

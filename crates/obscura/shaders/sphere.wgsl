@@ -36,8 +36,8 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     if dc <= 0.0 {
         return 1.0;
     }
-    // The sphere's screen radius, from march_step_px's projection at the centre's depth.
-    let rs_px = march_step_px(dc, 0u) * (1.0 - SPHERE_OFFSET);
+    // The sphere's screen radius, from radius_px's projection at the centre's depth.
+    let rs_px = radius_px(dc) * (1.0 - SPHERE_OFFSET);
     let c_px = project_to_pixel(c) - (vec2<f32>(p) + 0.5);
     var occupied = 0.0;
     var total = 0.0;

@@ -228,9 +228,36 @@ pub fn hbao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     (1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0)
 }
 
+/// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
+/// `fast_acos` in shaders/gtao.wgsl.
+pub fn fast_acos(x: f32) -> f32 {
+    let a = x.abs();
+    let r =
+        (1.0 - a).sqrt() * (1.570_728_8 + a * (-0.212_114_4 + a * (0.074_261 - 0.018_729_3 * a)));
+    if x < 0.0 {
+        std::f32::consts::PI - r
+    } else {
+        r
+    }
+}
+
+/// One side's visible arc of a GTAO slice; mirrors `gtao_side` in shaders/gtao.wgsl.
+fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    use std::f32::consts::FRAC_PI_2;
+    let t = s * fast_acos(c) - n;
+    let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
+    let sin_h = s * (1.0 - c * c).max(0.0).sqrt();
+    let cos_2h_n = if t.abs() > FRAC_PI_2 {
+        -cos_n
+    } else {
+        (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
+    };
+    (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25
+}
+
 /// GTAO of one pixel; mirrors `estimate` in shaders/gtao.wgsl.
 pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
-    use std::f32::consts::{FRAC_PI_2, PI};
+    use std::f32::consts::PI;
     let f = px.f;
     let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
         return 1.0;
@@ -241,16 +268,14 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         Vec3::Z
     };
     let step_px = f.step_px(d, px.steps);
-    let arc = |h: f32, n: f32, cos_n: f32| (cos_n + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25;
     let mut visibility = 0.0;
     let mut weights = 0.0;
+    let (ts, tc) = (PI / px.directions as f32).sin_cos();
+    let mut dir = [pattern[0], pattern[1]];
     for i in 0..px.directions {
-        let a = i as f32 * (PI / px.directions as f32);
-        let (bs, bc) = a.sin_cos();
-        let dir = [
-            bc * pattern[0] - bs * pattern[1],
-            bc * pattern[1] + bs * pattern[0],
-        ];
+        if i > 0 {
+            dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
+        }
         let dir3 = Vec3::new(dir[0], -dir[1], 0.0);
         let ortho = dir3 - dir3.dot(v) * v;
         let axis = ortho.cross(v).normalize();
@@ -274,8 +299,9 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         } else {
             0.0
         };
-        let n = sgn * cos_n.acos();
-        let mut hc = [(n + FRAC_PI_2).cos(), (n - FRAC_PI_2).cos()];
+        let n = sgn * fast_acos(cos_n);
+        let sin_n = sgn * (1.0 - cos_n * cos_n).sqrt();
+        let mut hc = [-sin_n, sin_n];
         let mut ray = pattern[2] * step_px + 1.0;
         for _ in 0..px.steps {
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
@@ -301,9 +327,8 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
                 *h = h.max((w.dot(v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
             }
         }
-        let h0 = n + (hc[0].acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
-        let h1 = n + (-hc[1].acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
-        visibility += weight * proj_len * (arc(h0, n, cos_n) + arc(h1, n, cos_n));
+        let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
+        visibility += weight * proj_len * arcs;
     }
     let dirs = px.directions as f32;
     let per_slice = dirs * visibility / weights;
@@ -323,7 +348,7 @@ pub fn sphere_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4], offset: f32) ->
     if dc <= 0.0 {
         return 1.0;
     }
-    let rs_px = f.step_px(dc, 0) * (1.0 - offset);
+    let rs_px = f.radius_px(dc) * (1.0 - offset);
     // Projection of the centre to pixels, relative to this pixel's centre.
     let mut xy = glam::Vec2::new(c.x, c.y) / glam::Vec2::from(f.ndc_to_view);
     if f.perspective != 0 {
@@ -382,7 +407,7 @@ pub fn sao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     let Some(Surface { d, n, pos }) = px.surface(p) else {
         return 1.0;
     };
-    let r_px = f.step_px(d, 0);
+    let r_px = f.radius_px(d);
     let r2 = f.radius * f.radius;
     let count = px.directions * px.steps;
     let mut sum = 0.0;
@@ -881,4 +906,44 @@ pub fn ao_downsample(tent: bool, size: [u32; 2], ao: &[f32]) -> ([u32; 2], Vec<f
         }
     }
     (dst, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fast_acos, gtao_side};
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn fast_acos_is_within_its_stated_bound() {
+        let mut worst = 0.0f64;
+        for i in 0..=200_000 {
+            let x = -1.0 + 2.0 * i as f64 / 200_000.0;
+            worst = worst.max((fast_acos(x as f32) as f64 - x.acos()).abs());
+        }
+        assert!(worst <= 1e-4, "fast_acos error {worst:e} rad");
+    }
+
+    /// The trigonometric form of Jimenez et al.'s eq. 10 for one side, in f64.
+    fn arc_trig(c: f64, s: f64, n: f64) -> f64 {
+        let h = n + (s * c.acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
+        (n.cos() + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25
+    }
+
+    #[test]
+    fn gtao_side_matches_the_trigonometric_arc() {
+        let mut worst = 0.0f64;
+        for i in 0..=60 {
+            // Normal angles over the whole circle: the clamp holds on some of them.
+            let n = -3.1 + 6.2 * i as f64 / 60.0;
+            for j in 0..=60 {
+                let c = -1.0 + 2.0 * j as f64 / 60.0;
+                for s in [1.0, -1.0] {
+                    let got =
+                        gtao_side(c as f32, s as f32, n as f32, n.cos() as f32, n.sin() as f32);
+                    worst = worst.max((got as f64 - arc_trig(c, s, n)).abs());
+                }
+            }
+        }
+        assert!(worst <= 2e-4, "arc error {worst:e}");
+    }
 }

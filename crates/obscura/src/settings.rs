@@ -537,6 +537,8 @@ impl AoOptions {
             steps: 64,
             mode: AoMode::Randomized,
             jitter: false,
+            // The integral itself: no denoiser smoothing it (the default has one).
+            denoise: Denoise::None,
             ..Self::default()
         }
     }

@@ -188,14 +188,20 @@ impl FrameUniforms {
         }
     }
 
+    /// The AO radius in pixels at linear depth `d`; mirrors `radius_px` in
+    /// shaders/common.wgsl.
+    pub fn radius_px(&self, d: f32) -> f32 {
+        let mut r = self.radius * self.radius_to_px;
+        if self.perspective != 0 {
+            r /= d;
+        }
+        r.min(self.max_radius_px)
+    }
+
     /// Ray-march step in pixels at linear depth `d`; mirrors `march_step_px` in
     /// shaders/common.wgsl.
     pub fn step_px(&self, d: f32, steps: u32) -> f32 {
-        let mut radius_px = self.radius * self.radius_to_px;
-        if self.perspective != 0 {
-            radius_px /= d;
-        }
-        radius_px.min(self.max_radius_px) / (steps + 1) as f32
+        self.radius_px(d) / (steps + 1) as f32
     }
 
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
