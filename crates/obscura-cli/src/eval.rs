@@ -731,7 +731,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
         let rel = relative_dir(dir, md);
         write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
-        let title = if rows.iter().any(|r| r.full_rmse.is_some()) {
+        // The mixed-resolution introduction only when some variant runs below full
+        // resolution (a denoiser alone also gets the full-resolution comparison columns).
+        let title = if variants
+            .iter()
+            .any(|(_, o)| o.resolution != Resolution::Full)
+        {
             "# Mixed resolution against ray-traced ground truth\n\nAO computed at half or quarter resolution (depth downsampled 2×2 → 1 by a rule, picks recentred on their tangent plane), upsampled to full resolution, compared with ray-traced AO and with the same estimator at full resolution. The evaluation size is small (640×400: half resolution is a 320×200 AO), the harshest case for low resolutions; speed-ups at 1920×1080 and 3840×2160, and what the numbers mean, are in BENCHMARKS.md (`obscura bench --compare resolutions`). *Speed-up* here is the mean over the views of full-resolution time / variant time at 640×400, where the full-resolution prepare and upsample passes weigh most."
         } else {
             "# Quality against ray-traced ground truth"
