@@ -24,7 +24,7 @@ const HALF_PI: f32 = 1.5707963267948966;
 // driver's acos. Mirror: `reference::fast_acos`, whose bound a test checks.
 fn fast_acos(x: f32) -> f32 {
     let a = abs(x);
-    let r = sqrt(1.0 - a) * (1.5707288 + a * (-0.2121144 + a * (0.074261 - 0.0187293 * a)));
+    let r = sqrt(1.0 - a) * (ACOS_POLY[0] + a * (ACOS_POLY[1] + a * (ACOS_POLY[2] + a * ACOS_POLY[3])));
     return select(r, PI - r, x < 0.0);
 }
 

@@ -230,10 +230,10 @@ pub fn hbao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
 
 /// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
 /// `fast_acos` in shaders/gtao.wgsl.
-pub fn fast_acos(x: f32) -> f32 {
+fn fast_acos(x: f32) -> f32 {
+    use crate::shader::ACOS_POLY as k;
     let a = x.abs();
-    let r =
-        (1.0 - a).sqrt() * (1.570_728_8 + a * (-0.212_114_4 + a * (0.074_261 - 0.018_729_3 * a)));
+    let r = (1.0 - a).sqrt() * (k[0] + a * (k[1] + a * (k[2] + a * k[3])));
     if x < 0.0 {
         std::f32::consts::PI - r
     } else {

@@ -47,6 +47,9 @@ pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
 /// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
 pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
+/// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
+/// |error| ≤ 5e-5 (GTAO's `fast_acos`, shaders/gtao.wgsl, and its mirror).
+pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
 /// Texel distance between the tent filter's taps.
 pub const TENT_SPACING: i32 = 2;
 
@@ -450,8 +453,10 @@ pub fn prelude() -> String {
          const DENOISE_RADIUS_TOLERANCE: f32 = {DENOISE_RADIUS_TOLERANCE:?};\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
+         const ACOS_POLY: array<f32, 4> = array<f32, 4>({});\n\
          {}",
         wgsl_floats(&TENT_WEIGHTS),
+        wgsl_floats(&ACOS_POLY),
         FrameUniforms::wgsl()
     )
 }
