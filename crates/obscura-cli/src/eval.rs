@@ -5,7 +5,7 @@
 use crate::output::{check_png_path, save_png, write_text};
 use crate::render::{
     parse_denoise, parse_downsample, parse_floats, parse_resolution, parse_upsampler, EstimatorArg,
-    ModeArg, NormalSource, SampleArgs,
+    ModeArg, NormalSource, PresetArg, SampleArgs,
 };
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -76,6 +76,12 @@ pub struct EvalArgs {
     /// and denoiser. Overrides --preset, --directions and --steps.
     #[arg(long, value_parser = parse_split, value_delimiter = ',')]
     pub splits: Vec<(u32, u32)>,
+    /// Quality presets to compare in one run (comma-separated, e.g. low,medium,high,ultra);
+    /// each runs with every estimator, mode, resolution and denoiser, and the report's
+    /// frontier shows which choices give the least error for their time. Overrides
+    /// --preset, --directions and --steps.
+    #[arg(long, value_enum, value_delimiter = ',', conflicts_with = "splits")]
+    pub presets: Vec<PresetArg>,
     /// Pass layouts to evaluate (comma-separated); every estimator runs in every mode.
     #[arg(
         long,
@@ -178,6 +184,14 @@ struct TemporalFigures {
     /// 5 frames): their RMSE after the orbit, their RMSE in the still camera's converged
     /// image, and how many there are.
     disoccluded: Option<(f32, f32, usize)>,
+}
+
+/// How one group of variants chooses its sample counts.
+#[derive(Clone, Copy)]
+enum SampleChoice {
+    Given,
+    Split((u32, u32)),
+    Preset(PresetArg),
 }
 
 /// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
@@ -319,16 +333,20 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
     let mut variants: Vec<(String, AoOptions)> = Vec::new();
-    let splits: Vec<Option<(u32, u32)>> = if a.splits.is_empty() {
-        vec![None]
+    // The sample choices crossed with everything else: explicit splits, presets, or the
+    // one choice of --preset / --directions / --steps (no label suffix).
+    let choices: Vec<SampleChoice> = if !a.splits.is_empty() {
+        a.splits.iter().map(|&s| SampleChoice::Split(s)).collect()
+    } else if !a.presets.is_empty() {
+        a.presets.iter().map(|&p| SampleChoice::Preset(p)).collect()
     } else {
-        a.splits.iter().copied().map(Some).collect()
+        vec![SampleChoice::Given]
     };
     for &e in &a.estimators {
-        for (&m, split) in a
+        for (&m, choice) in a
             .modes
             .iter()
-            .flat_map(|m| splits.iter().map(move |s| (m, s)))
+            .flat_map(|m| choices.iter().map(move |c| (m, c)))
         {
             let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
             let mut base = AoOptions {
@@ -336,10 +354,19 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 ..a.samples.options(estimator)
             };
             let mut name = format!("{} {}", estimator.name(), mode.name());
-            if let Some((directions, steps)) = *split {
-                base.directions = directions;
-                base.steps = steps;
-                name = format!("{name} {directions}×{steps}");
+            match *choice {
+                SampleChoice::Given => {}
+                SampleChoice::Split((directions, steps)) => {
+                    base.directions = directions;
+                    base.steps = steps;
+                    name = format!("{name} {directions}×{steps}");
+                }
+                SampleChoice::Preset(p) => {
+                    let o = AoOptions::preset(estimator, p.into());
+                    (base.directions, base.steps) = (o.directions, o.steps);
+                    let label = p.to_possible_value().map(|v| v.get_name().to_owned());
+                    name = format!("{name} {}", label.unwrap_or_default());
+                }
             }
             for &resolution in &a.resolutions {
                 for &denoise in &a.denoise {
@@ -721,16 +748,21 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
     }
 
+    let means = variant_means(&rows);
     let table = format!(
-        "{}{}{}",
+        "{}{}{}{}",
         mixed_summary(&rows),
         summary_table(&rows),
-        temporal_table(&rows, a)
+        temporal_table(&rows, a),
+        frontier_table(&means)
     );
     print!("{table}");
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
         let rel = relative_dir(dir, md);
         write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
+        if means.len() > 1 {
+            write_text(&dir.join("frontier.svg"), &frontier_plot(&means))?;
+        }
         // The mixed-resolution introduction only when some variant runs below full
         // resolution (a denoiser alone also gets the full-resolution comparison columns).
         let title = if variants
@@ -752,10 +784,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             ctx.describe()
         );
         doc.push_str(&table);
-        let _ = write!(
-            doc,
-            "\n![quality versus time]({rel}quality-vs-time.svg)\n\n## Views\n"
-        );
+        let _ = write!(doc, "\n![quality versus time]({rel}quality-vs-time.svg)\n");
+        if means.len() > 1 {
+            let _ = write!(
+                doc,
+                "\n![the quality-versus-time frontier]({rel}frontier.svg)\n"
+            );
+        }
+        doc.push_str("\n## Views\n");
         doc.push_str(&sections);
         write_text(md, &doc)?;
         eprintln!("wrote {}", md.display());
@@ -1034,6 +1070,174 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     s
 }
 
+/// One timed variant averaged over the evaluated views.
+struct VariantMean {
+    variant: String,
+    estimator: String,
+    rmse: f64,
+    bias: f64,
+    ms: f64,
+}
+
+/// Every timed variant's mean RMSE, bias and time over the views, in evaluation order.
+fn variant_means(rows: &[Row]) -> Vec<VariantMean> {
+    let mut out: Vec<VariantMean> = Vec::new();
+    for r in rows.iter().filter(|r| r.ms.is_some()) {
+        if out.iter().any(|m| m.variant == r.variant) {
+            continue;
+        }
+        let mine: Vec<&Row> = rows.iter().filter(|x| x.variant == r.variant).collect();
+        let n = mine.len() as f64;
+        out.push(VariantMean {
+            variant: r.variant.clone(),
+            estimator: r.estimator.clone(),
+            rmse: mine.iter().map(|x| x.rmse as f64).sum::<f64>() / n,
+            bias: mine.iter().map(|x| x.bias as f64).sum::<f64>() / n,
+            ms: mine.iter().filter_map(|x| x.ms).sum::<f64>() / n,
+        });
+    }
+    out
+}
+
+/// For each point (time, error), the index of the point that dominates it, or `None` when
+/// it is on the Pareto frontier: no other point is at most as slow and strictly more
+/// accurate, or as accurate and strictly faster. The dominating point named is the most
+/// accurate of those at most as slow (itself on the frontier).
+fn pareto(points: &[(f64, f64)]) -> Vec<Option<usize>> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, &(t, e))| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(j, &(tj, ej))| {
+                    j != i && tj <= t && ej <= e && (tj < t || ej < e || j < i)
+                })
+                .min_by(|a, b| {
+                    (a.1 .1, a.1 .0)
+                        .partial_cmp(&(b.1 .1, b.1 .0))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                })
+                .map(|(j, _)| j)
+        })
+        .collect()
+}
+
+/// The quality-versus-time frontier: every timed variant by mean time, marked when no other
+/// variant is both at most as slow and more accurate.
+fn frontier_table(means: &[VariantMean]) -> String {
+    if means.len() < 2 {
+        return String::new();
+    }
+    let dominated = pareto(&means.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
+    let mut order: Vec<usize> = (0..means.len()).collect();
+    order.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
+    let mut s = String::from("\n### Quality-versus-time frontier\n\nMean over the views of RMSE against ray-traced AO and of the frame time, every variant by time. **frontier**: no other variant is at most as slow and more accurate; the others name the faster-or-equal variant that beats them. Pick the row that fits your budget.\n\n| variant | RMSE | bias | ms | |\n|---|---|---|---|---|\n");
+    for i in order {
+        let m = &means[i];
+        let mark = match dominated[i] {
+            None => "**frontier**".to_string(),
+            Some(j) => format!("beaten by {}", means[j].variant),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {:.4} | {:+.4} | {:.1} | {mark} |",
+            m.variant, m.rmse, m.bias, m.ms
+        );
+    }
+    s
+}
+
+/// The frontier as a picture: one point per variant (mean time, mean RMSE), coloured by
+/// estimator; frontier points filled, labelled and joined.
+fn frontier_plot(means: &[VariantMean]) -> String {
+    let dominated = pareto(&means.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
+    let (w, h, m, right) = (640.0, 400.0, 60.0, 300.0);
+    let tmax = means.iter().map(|v| v.ms).fold(1e-9, f64::max) * 1.05;
+    let emax = means.iter().map(|v| v.rmse).fold(1e-9, f64::max) * 1.05;
+    let px = |t: f64| m + t / tmax * w;
+    let py = |e: f64| 20.0 + h - e / emax * h;
+    let estimators = ["gtao", "hbao", "vo", "vao", "sao"];
+    let colors = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#e6730f"];
+    let color = |e: &str| {
+        estimators
+            .iter()
+            .position(|x| *x == e)
+            .map_or("#222222", |i| colors[i])
+    };
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<rect x=\"{m}\" y=\"20\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>\n",
+        w + m + right,
+        h + m + 30.0
+    );
+    for k in 0..=4 {
+        let t = tmax * k as f64 / 4.0;
+        let e = emax * k as f64 / 4.0;
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{t:.0}</text>\n<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{e:.3}</text>",
+            px(t),
+            20.0 + h + 15.0,
+            m - 4.0,
+            py(e) + 4.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">mean ms per frame (every pass)</text>\n<text x=\"14\" y=\"{1}\" transform=\"rotate(-90 14 {1})\" text-anchor=\"middle\">mean RMSE vs ray-traced</text>",
+        m + w / 2.0,
+        20.0 + h / 2.0
+    );
+    let mut front: Vec<usize> = (0..means.len())
+        .filter(|&i| dominated[i].is_none())
+        .collect();
+    front.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
+    let line: Vec<String> = front
+        .iter()
+        .map(|&i| format!("{:.1},{:.1}", px(means[i].ms), py(means[i].rmse)))
+        .collect();
+    let _ = writeln!(
+        s,
+        "<polyline points=\"{}\" fill=\"none\" stroke=\"#555\" stroke-dasharray=\"4 3\"/>",
+        line.join(" ")
+    );
+    for (i, v) in means.iter().enumerate() {
+        let c = color(&v.estimator);
+        let fill = if dominated[i].is_none() { c } else { "none" };
+        let _ = writeln!(
+            s,
+            "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{fill}\" stroke=\"{c}\"><title>{}: {:.4}, {:.1} ms</title></circle>",
+            px(v.ms),
+            py(v.rmse),
+            v.variant,
+            v.rmse,
+            v.ms
+        );
+    }
+    // Frontier labels in a column on the right, joined to their points.
+    for (k, &i) in front.iter().enumerate() {
+        let v = &means[i];
+        let y = 30.0 + 16.0 * k as f64;
+        let _ = writeln!(
+            s,
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{}\" y2=\"{}\" stroke=\"#ccc\"/>\n<text x=\"{}\" y=\"{}\" fill=\"{}\">{} ({:.4}, {:.0} ms)</text>",
+            px(v.ms),
+            py(v.rmse),
+            m + w + 8.0,
+            y - 4.0,
+            m + w + 10.0,
+            y,
+            color(&v.estimator),
+            v.variant,
+            v.rmse,
+            v.ms
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
 /// Quality (RMSE) against time, one point per view and mode.
 fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
     let pts: Vec<&Row> = rows.iter().filter(|r| r.ms.is_some()).collect();
@@ -1092,7 +1296,26 @@ fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::parse_split;
+    use super::{pareto, parse_split};
+
+    #[test]
+    fn the_frontier_keeps_exactly_the_undominated_points() {
+        // (ms, rmse). 0, 1 and 3 trade time for error; 2 is slower and worse than 1; 4 ties
+        // 1's time with more error; 5 duplicates 3 (the first of equal points stays).
+        let p = [
+            (10.0, 0.08),
+            (20.0, 0.06),
+            (25.0, 0.07),
+            (40.0, 0.05),
+            (20.0, 0.065),
+            (40.0, 0.05),
+        ];
+        let d = pareto(&p);
+        assert_eq!(d, vec![None, None, Some(1), None, Some(1), Some(3)]);
+        // Equal error and more time is beaten too; a single point is its own frontier.
+        assert_eq!(pareto(&[(1.0, 0.1), (2.0, 0.1)]), vec![None, Some(0)]);
+        assert_eq!(pareto(&[(3.0, 0.2)]), vec![None]);
+    }
 
     #[test]
     fn splits_parse_and_refuse_what_is_not_a_split() {

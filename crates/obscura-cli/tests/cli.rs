@@ -275,6 +275,17 @@ fn eval_writes_report_json_and_caches_the_reference() {
         }
     }
     assert!(report.join("quality-vs-time.svg").exists());
+    // The frontier: every one of the 15 variants listed once, the fastest on it.
+    let front = &md[md
+        .find("### Quality-versus-time frontier")
+        .expect("frontier")..];
+    let listed: Vec<&str> = front
+        .lines()
+        .filter(|l| l.ends_with("**frontier** |") || l.contains("| beaten by "))
+        .collect();
+    assert_eq!(listed.len(), 15, "{front}");
+    assert!(listed[0].ends_with("**frontier** |"), "{front}");
+    assert!(report.join("frontier.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
     // White baseline + 5 screen-space references + 5 estimators × 3 modes.
     let records = j.matches("\"view\": \"cornell\", \"variant\"").count();
@@ -298,6 +309,22 @@ fn eval_rejects_bad_input() {
         (
             &["eval", "--view", "cornell", "--radius=-1"][..],
             "--radius",
+        ),
+        (
+            &[
+                "eval",
+                "--view",
+                "cornell",
+                "--presets",
+                "low",
+                "--splits",
+                "4x4",
+            ][..],
+            "cannot be used with",
+        ),
+        (
+            &["eval", "--view", "cornell", "--presets", "extreme"][..],
+            "--presets",
         ),
     ] {
         let out = obscura(args);
