@@ -1,6 +1,9 @@
 //! Real captured depth maps as input (`obscura render --depth FILE --intrinsics JSON`):
-//! 16-bit PNG, 32-bit float EXR or `.npy` (float32, float16 or uint16), pinhole intrinsics
-//! in JSON. Depth 0, NaN and ±inf are missing data: sky, never a near occluder.
+//! 16-bit PNG, 32-bit float EXR or `.npy` (float16/32/64 or uint16, C or Fortran order),
+//! pinhole intrinsics in JSON. Depth 0, NaN and ±inf are missing data: sky, never a near
+//! occluder. The intrinsics' depth scale applies to integer maps (16-bit PNG, uint16);
+//! float maps are in scene units already (Open3D's convention), so one intrinsics file
+//! serves both encodings of the same data.
 //!
 //! obscura's projections are centred, and a camera's principal point rarely is: the depth is
 //! padded with missing pixels until (cx, cy) sits at the centre (sky never occludes, so the
@@ -108,9 +111,15 @@ pub struct DepthMap {
     pub width: u32,
     pub height: u32,
     pub depth: Vec<f32>,
+    /// Stored as integers (the depth scale was applied) rather than floats.
+    pub integer: bool,
 }
 
-/// Loads a depth map by extension (.png 16-bit, .exr, .npy), scaled by `scale`.
+/// Decoded values before scaling: width, height, row-major values, stored as integers.
+type Decoded = (u32, u32, Vec<f32>, bool);
+
+/// Loads a depth map by extension (.png 16-bit, .exr, .npy); integer data is multiplied by
+/// `scale`, float data is taken as scene units.
 pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
     let ext = path
         .extension()
@@ -119,7 +128,7 @@ pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
         .unwrap_or_default();
     let bytes =
         std::fs::read(path).with_context(|| format!("cannot read depth `{}`", path.display()))?;
-    let (width, height, raw) = match ext.as_str() {
+    let (width, height, raw, integer) = match ext.as_str() {
         "png" | "exr" => decode_image(&bytes, &ext)?,
         "npy" => decode_npy(&bytes)?,
         _ => bail!(
@@ -127,6 +136,7 @@ pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
             path.display()
         ),
     };
+    let scale = if integer { scale } else { 1.0 };
     let depth = raw
         .into_iter()
         .map(|d| {
@@ -142,6 +152,7 @@ pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
         width,
         height,
         depth,
+        integer,
     })
 }
 
@@ -152,7 +163,7 @@ fn check_size(w: u32, h: u32) -> Result<()> {
     Ok(())
 }
 
-fn decode_image(bytes: &[u8], ext: &str) -> Result<(u32, u32, Vec<f32>)> {
+fn decode_image(bytes: &[u8], ext: &str) -> Result<Decoded> {
     let format = if ext == "png" {
         image::ImageFormat::Png
     } else {
@@ -166,22 +177,24 @@ fn decode_image(bytes: &[u8], ext: &str) -> Result<(u32, u32, Vec<f32>)> {
     let img = reader.decode().context("cannot decode the depth image")?;
     check_size(img.width(), img.height())?;
     let (w, h) = (img.width(), img.height());
-    let values = match img {
-        image::DynamicImage::ImageLuma16(b) => b.into_raw().into_iter().map(f32::from).collect(),
-        image::DynamicImage::ImageRgb32F(b) => b.pixels().map(|p| p.0[0]).collect(),
-        image::DynamicImage::ImageRgba32F(b) => b.pixels().map(|p| p.0[0]).collect(),
+    let (values, integer) = match img {
+        image::DynamicImage::ImageLuma16(b) => {
+            (b.into_raw().into_iter().map(f32::from).collect(), true)
+        }
+        image::DynamicImage::ImageRgb32F(b) => (b.pixels().map(|p| p.0[0]).collect(), false),
+        image::DynamicImage::ImageRgba32F(b) => (b.pixels().map(|p| p.0[0]).collect(), false),
         other => bail!(
             "depth images must be 16-bit single-channel PNG or float EXR (got {:?}); 8-bit \
              images cannot hold depth",
             other.color()
         ),
     };
-    Ok((w, h, values))
+    Ok((w, h, values, integer))
 }
 
-/// A `.npy` array (version 1–3 header): 2-D, C order, little-endian float32, float16 or
-/// uint16.
-fn decode_npy(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>)> {
+/// A `.npy` array (version 1–3 header): 2-D, C or Fortran order, little-endian float64,
+/// float32, float16 or uint16.
+fn decode_npy(bytes: &[u8]) -> Result<Decoded> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
         bail!("not a .npy file (bad magic)");
     }
@@ -203,7 +216,11 @@ fn decode_npy(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>)> {
         Some(rest)
     };
     let descr = field("'descr'").context(".npy header lacks 'descr'")?;
-    let (bytes_per, convert): (usize, fn(&[u8]) -> f32) = if descr.starts_with("'<f4'") {
+    let (bytes_per, convert): (usize, fn(&[u8]) -> f32) = if descr.starts_with("'<f8'") {
+        (8, |b| {
+            f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]) as f32
+        })
+    } else if descr.starts_with("'<f4'") {
         (4, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     } else if descr.starts_with("'<f2'") {
         (2, |b| half_to_f32(u16::from_le_bytes([b[0], b[1]])))
@@ -211,13 +228,12 @@ fn decode_npy(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>)> {
         (2, |b| u16::from_le_bytes([b[0], b[1]]) as f32)
     } else {
         bail!(
-            ".npy dtype {} is not supported (float32, float16 or uint16)",
+            ".npy dtype {} is not supported (little-endian float64, float32, float16 or uint16)",
             descr.split(',').next().unwrap_or("")
         );
     };
-    if field("'fortran_order'").is_some_and(|f| f.starts_with("True")) {
-        bail!(".npy arrays in Fortran order are not supported");
-    }
+    let fortran = field("'fortran_order'").is_some_and(|f| f.starts_with("True"));
+    let integer = descr.starts_with("'<u2'");
     let shape = field("'shape'").context(".npy header lacks 'shape'")?;
     let inner = shape
         .strip_prefix('(')
@@ -241,8 +257,15 @@ fn decode_npy(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>)> {
     if data.len() < need {
         bail!(".npy data is truncated ({} of {need} bytes)", data.len());
     }
-    let values = data[..need].chunks_exact(bytes_per).map(convert).collect();
-    Ok((w as u32, h as u32, values))
+    let stored: Vec<f32> = data[..need].chunks_exact(bytes_per).map(convert).collect();
+    // Fortran order stores column after column: element (y, x) at x * h + y.
+    let values = if fortran {
+        let (w, h) = (w as usize, h as usize);
+        (0..w * h).map(|i| stored[(i % w) * h + i / w]).collect()
+    } else {
+        stored
+    };
+    Ok((w as u32, h as u32, values, integer))
 }
 
 /// IEEE half → f32 (subnormals, inf and NaN included).
@@ -277,24 +300,30 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
             k.height
         );
     }
-    // Back-projected bounds of the valid depths: the default radius is 3% of their diagonal,
-    // the rule used for meshes.
-    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
-    let mut valid = 0usize;
-    for (i, &d) in map.depth.iter().enumerate() {
-        if d > 0.0 {
-            let (u, v) = ((i as u32 % map.width) as f32, (i as u32 / map.width) as f32);
-            let p = glam::Vec3::new((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
-            lo = lo.min(p);
-            hi = hi.max(p);
-            valid += 1;
-        }
+    if !map.integer && k.depth_scale != 1.0 {
+        eprintln!(
+            "depth: float values are taken as scene units; the intrinsics' depth_scale {} \
+             applies to integer maps only",
+            k.depth_scale
+        );
     }
-    if valid == 0 {
+    let points = back_project(&map, &k);
+    if points.is_empty() {
         bail!("the depth map has no valid depth (every value is 0, NaN or infinite)");
     }
+    let valid = points.len();
+    // The default radius is 3% of the diagonal of the valid points' bounds, the rule used
+    // for meshes, with the bounds taken between the 1st and 99th percentiles per axis so a
+    // few outliers (sensor spikes, 1e30 fill values) do not set it.
+    let (lo, hi) = (
+        percentile_bounds(&points, 0.01),
+        percentile_bounds(&points, 0.99),
+    );
     let radius = a.radius.unwrap_or(0.03 * (hi - lo).length());
-    let (pad, projection) = k.centred(0.5 * lo.z, 2.0 * hi.z);
+    let (zmin, zmax) = points
+        .iter()
+        .fold((f32::MAX, 0.0f32), |(a, b), p| (a.min(p.z), b.max(p.z)));
+    let (pad, projection) = k.centred(0.5 * zmin, (2.0 * zmax).min(f32::MAX));
     let (pw, ph) = (map.width + pad[0] + pad[2], map.height + pad[1] + pad[3]);
     let mut padded = vec![0.0f32; (pw * ph) as usize];
     for y in 0..map.height {
@@ -308,8 +337,8 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         map.width,
         map.height,
         100.0 * valid as f64 / map.depth.len() as f64,
-        lo.z,
-        hi.z,
+        zmin,
+        zmax,
         t0.elapsed().as_secs_f64() * 1e3
     );
 
@@ -352,32 +381,48 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         output: None,
     };
     ao.validate(&input, &params)?;
-    let t = std::time::Instant::now();
-    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
     eprintln!(
-        "ao: {} ({} samples/pixel), radius {radius:.3}, in {:.0} ms (includes shader compilation)",
+        "ao: {} ({} samples/pixel), radius {radius:.3}",
         options.estimator.name(),
         options.samples_per_pixel(),
-        t.elapsed().as_secs_f64() * 1e3
     );
-    let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
-    let px: Vec<u8> = (0..map.height)
+    let out = crate::render::record_timed(a, &ctx, &mut ao, &input, &params)?;
+    let cropped: Vec<f32> = (0..map.height)
         .flat_map(|y| {
             let row = ((y + pad[1]) * pw + pad[0]) as usize;
             out[row..row + map.width as usize].to_vec()
         })
-        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
         .collect();
-    crate::output::save_png(
-        &a.out,
-        &px,
-        map.width,
-        map.height,
-        image::ExtendedColorType::L8,
-    )?;
+    crate::output::save_ao(&a.out, &cropped, map.width, map.height)?;
     eprintln!("wrote {}", a.out.display());
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// The valid pixels' view-space points (x right, y down, z the depth: the camera's frame).
+fn back_project(map: &DepthMap, k: &Intrinsics) -> Vec<glam::Vec3> {
+    map.depth
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d > 0.0)
+        .map(|(i, &d)| {
+            let (u, v) = ((i as u32 % map.width) as f32, (i as u32 / map.width) as f32);
+            glam::Vec3::new((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d)
+        })
+        .collect()
+}
+
+/// Per axis, the value below which a fraction `q` of the points lie (nearest rank).
+fn percentile_bounds(points: &[glam::Vec3], q: f32) -> glam::Vec3 {
+    let mut out = [0.0f32; 3];
+    let mut axis: Vec<f32> = Vec::with_capacity(points.len());
+    for (a, o) in out.iter_mut().enumerate() {
+        axis.clear();
+        axis.extend(points.iter().map(|p| p[a]));
+        let i = ((q * (axis.len() - 1) as f32).round() as usize).min(axis.len() - 1);
+        *o = *axis.select_nth_unstable_by(i, f32::total_cmp).1;
+    }
+    glam::Vec3::from(out)
 }
 
 fn bytemuck_bytes(v: &[f32]) -> Vec<u8> {
@@ -427,22 +472,27 @@ mod tests {
         v
     }
 
-    fn npy(w: u64, h: u64, values: &[f32]) -> Vec<u8> {
-        let header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({h}, {w}), }}");
-        let pad = 64 - (10 + header.len() + 1) % 64;
-        let header = format!("{header}{}\n", " ".repeat(pad));
+    fn npy(w: u32, h: u32, values: &[f32]) -> Vec<u8> {
+        crate::output::npy_f32(values, w, h)
+    }
+
+    /// A `.npy` with any dtype and order: `data` as stored.
+    fn npy_raw(descr: &str, fortran: bool, h: u32, w: u32, data: &[u8]) -> Vec<u8> {
+        let order = if fortran { "True" } else { "False" };
+        let header =
+            format!("{{'descr': '{descr}', 'fortran_order': {order}, 'shape': ({h}, {w}), }}\n");
         let mut v = b"\x93NUMPY\x01\x00".to_vec();
         v.extend((header.len() as u16).to_le_bytes());
         v.extend(header.as_bytes());
-        v.extend(values.iter().flat_map(|f| f.to_le_bytes()));
+        v.extend(data);
         v
     }
 
     #[test]
     fn npy_png_and_exr_decode_known_values() {
         let values = [1.5f32, 0.0, f32::NAN, 2.25, 1e3, -1.0];
-        let (w, h, got) = decode_npy(&npy(3, 2, &values)).unwrap();
-        assert_eq!((w, h), (3, 2));
+        let (w, h, got, integer) = decode_npy(&npy(3, 2, &values)).unwrap();
+        assert_eq!((w, h, integer), (3, 2, false));
         assert_eq!(got[0], 1.5);
         assert!(got[2].is_nan());
         let png16 = {
@@ -454,7 +504,7 @@ mod tests {
         };
         assert_eq!(
             decode_image(&png16, "png").unwrap(),
-            (2, 1, vec![1234.0, 0.0])
+            (2, 1, vec![1234.0, 0.0], true)
         );
         let exr = {
             let img =
@@ -463,7 +513,10 @@ mod tests {
             img.write_to(&mut out, image::ImageFormat::OpenExr).unwrap();
             out.into_inner()
         };
-        assert_eq!(decode_image(&exr, "exr").unwrap(), (2, 1, vec![0.75, 3.5]));
+        assert_eq!(
+            decode_image(&exr, "exr").unwrap(),
+            (2, 1, vec![0.75, 3.5], false)
+        );
         // 8-bit images cannot hold depth: a typed refusal.
         let png8 = {
             let img = image::GrayImage::from_raw(1, 1, vec![9]).unwrap();
@@ -476,6 +529,59 @@ mod tests {
         assert_eq!(half_to_f32(0xc000), -2.0);
         assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
         assert!(half_to_f32(0x7e00).is_nan());
+    }
+
+    /// numpy's default float64 and Fortran-ordered arrays (column after column) decode to
+    /// the same row-major map as a C-ordered float32 copy.
+    #[test]
+    fn float64_and_fortran_order_npy_decode_row_major() {
+        // value(y, x) = 10 y + x, 2 rows × 3 columns.
+        let c_order: Vec<f32> = vec![0.0, 1.0, 2.0, 10.0, 11.0, 12.0];
+        let f_order = [0.0f64, 10.0, 1.0, 11.0, 2.0, 12.0];
+        let f8: Vec<u8> = f_order.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let got = decode_npy(&npy_raw("<f8", true, 2, 3, &f8)).unwrap();
+        assert_eq!(got, (3, 2, c_order.clone(), false));
+        let c8: Vec<u8> = c_order
+            .iter()
+            .flat_map(|&v| (v as f64).to_le_bytes())
+            .collect();
+        assert_eq!(
+            decode_npy(&npy_raw("<f8", false, 2, 3, &c8)).unwrap().2,
+            c_order
+        );
+        let u2: Vec<u8> = [0u16, 10, 1, 11, 2, 12]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        assert_eq!(
+            decode_npy(&npy_raw("<u2", true, 2, 3, &u2)).unwrap(),
+            (3, 2, c_order, true)
+        );
+        // Big-endian data is refused by name, not misread.
+        let err = decode_npy(&npy_raw(">f8", false, 2, 3, &f8)).unwrap_err();
+        assert!(err.to_string().contains(">f8"), "{err}");
+    }
+
+    /// The depth scale converts integer maps only: float maps are scene units already, so a
+    /// float32 copy of millimetre data in metres loads to the same depths as the uint16 map.
+    #[test]
+    fn the_depth_scale_applies_to_integer_maps_only() {
+        let dir = std::env::temp_dir().join(format!("obscura-scale-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mm = [1500u16, 0, 2250, 4000];
+        let u2: Vec<u8> = mm.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let metres: Vec<f32> = mm.iter().map(|&v| v as f32 / 1000.0).collect();
+        let (fu, ff) = (dir.join("mm.npy"), dir.join("m.npy"));
+        std::fs::write(&fu, npy_raw("<u2", false, 2, 2, &u2)).unwrap();
+        std::fs::write(&ff, npy(2, 2, &metres)).unwrap();
+        let a = load(&fu, 0.001).unwrap();
+        let b = load(&ff, 0.001).unwrap();
+        assert!(a.integer && !b.integer);
+        for (x, y) in a.depth.iter().zip(&b.depth) {
+            assert!((x - y).abs() <= 1e-6, "{:?} vs {:?}", a.depth, b.depth);
+        }
+        assert_eq!(b.depth[2], 2.25);
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! `obscura render`: scene → G-buffer → AO → PNG.
 
-use crate::output::{check_png_path, save_png};
+use crate::output::{check_ao_path, check_png_path, save_ao, save_png};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -267,9 +267,10 @@ pub struct RenderArgs {
     /// Where the AO normals come from.
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
-    /// A captured depth map instead of a scene: 16-bit PNG (units set by the intrinsics'
-    /// depth_scale, default millimetres), 32-bit float EXR or .npy (float32/float16/uint16).
-    /// 0, NaN and infinite depths are missing data. Needs --intrinsics.
+    /// A captured depth map instead of a scene: 16-bit PNG or uint16 .npy (units set by the
+    /// intrinsics' depth_scale, default millimetres), or float EXR / float16/32/64 .npy (scene
+    /// units already: depth_scale is not applied), C or Fortran order. 0, NaN and infinite
+    /// depths are missing data. Needs --intrinsics.
     #[arg(
         long,
         value_name = "FILE",
@@ -281,7 +282,8 @@ pub struct RenderArgs {
     /// width, height, and optionally depth_scale (scene units per stored unit; 0.001).
     #[arg(long, value_name = "JSON", requires = "depth")]
     pub intrinsics: Option<PathBuf>,
-    /// Output AO image (8-bit grayscale PNG, white = unoccluded).
+    /// Output AO: .png (8-bit grey) or .npy (float32, for computing with it); 1 / white =
+    /// unoccluded.
     #[arg(long, default_value = "ao.png")]
     pub out: PathBuf,
     /// Also write a linear-depth visualization PNG (near = bright, sky = black).
@@ -350,7 +352,7 @@ fn check_args(a: &RenderArgs) -> Result<()> {
             bail!("--orbit needs a scene (a depth map has one camera)");
         }
     }
-    check_png_path(&a.out)?;
+    check_ao_path(&a.out)?;
     for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
         check_png_path(p)?;
     }
@@ -448,6 +450,51 @@ fn camera(a: &RenderArgs, builtin: bool, mesh: &Mesh) -> Result<Camera> {
     Ok(cam)
 }
 
+/// Records one warm-up frame (shader compilation), then `--runs` timed single frames or
+/// `--frames` accumulated frames, prints the times, and returns the AO output. Shared by
+/// the scene and the depth-map paths.
+pub(crate) fn record_timed(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    ao: &mut Ao,
+    input: &obscura::AoInput<'_>,
+    params: &AoParams,
+) -> Result<Vec<f32>> {
+    let mut times = Vec::new();
+    let first = Instant::now();
+    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, input, params))?;
+    eprintln!(
+        "ao: first run {:.1} ms (includes shader compilation)",
+        first.elapsed().as_secs_f64() * 1e3
+    );
+    // With temporal accumulation the warm-up frame is not part of the image.
+    ao.reset_history();
+    let timed = if a.frames > 1 { a.frames } else { a.runs };
+    let total = Instant::now();
+    for _ in 0..timed {
+        let t = Instant::now();
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, input, params))?;
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    if a.frames > 1 {
+        eprintln!(
+            "ao: {} accumulated frames (history {}), median {:.2} ms per frame, {:.1} ms in all",
+            a.frames,
+            ao.options().history,
+            median_ms(times),
+            total.elapsed().as_secs_f64() * 1e3
+        );
+    } else {
+        eprintln!(
+            "ao: median {:.2} ms over {} runs (wall clock around submit + wait)",
+            median_ms(times),
+            a.runs
+        );
+    }
+    let out = ao.output().context("AO output missing after a run")?;
+    Ok(ctx.read_f32(out)?)
+}
+
 fn median_ms(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -516,48 +563,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             a, &ctx, &raster, &gpu_mesh, &cam, &mut ao, &params, degrees, dir, t0,
         );
     }
-    let mut times = Vec::new();
-    let first = Instant::now();
-    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
-    eprintln!(
-        "ao: first run {:.1} ms (includes shader compilation)",
-        first.elapsed().as_secs_f64() * 1e3
-    );
-    // With temporal accumulation the warm-up frame is not part of the image.
-    ao.reset_history();
-    let timed = if a.frames > 1 { a.frames } else { a.runs };
-    let total = Instant::now();
-    for _ in 0..timed {
-        let t = Instant::now();
-        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    if a.frames > 1 {
-        eprintln!(
-            "ao: {} accumulated frames (history {}), median {:.2} ms per frame, {:.1} ms in all",
-            a.frames,
-            options.history,
-            median_ms(times),
-            total.elapsed().as_secs_f64() * 1e3
-        );
-    } else {
-        eprintln!(
-            "ao: median {:.2} ms over {} runs (wall clock around submit + wait)",
-            median_ms(times),
-            a.runs
-        );
-    }
-
-    let out_tex = ao.output().context("AO output missing after a run")?;
-    let values = ctx.read_f32(out_tex)?;
-    let pixels = to_gray8(&values);
-    save_png(
-        &a.out,
-        &pixels,
-        a.width,
-        a.height,
-        image::ExtendedColorType::L8,
-    )?;
+    let values = record_timed(a, &ctx, &mut ao, &input, &params)?;
+    save_ao(&a.out, &values, a.width, a.height)?;
     eprintln!("wrote {}", a.out.display());
 
     if a.depth_out.is_some() || a.normals_out.is_some() {

@@ -337,6 +337,76 @@ fn eval_rejects_bad_input() {
     }
 }
 
+/// The float32 payload of a 2-D C-order `.npy` of shape (h, w), checking its header.
+fn read_npy_f32(path: &Path, h: usize, w: usize) -> Vec<f32> {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(
+        header.contains("'<f4'") && header.contains(&format!("({h}, {w})")),
+        "{header}"
+    );
+    assert_eq!((10 + len) % 64, 0, "data aligned to 64 bytes");
+    let data = &bytes[10 + len..];
+    assert_eq!(data.len(), 4 * w * h);
+    data.chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
+}
+
+/// A float32 depth map of a floor 2 m away with a 5 cm step towards the camera (its foot is a crease), a few pixels at
+/// 1e30 (a fill value some tools write for "no data far away"): it renders with the
+/// default radius (taken from robust bounds, not the outliers), the crease is darker than
+/// the open floor, and the depth scale of the intrinsics does not rescale float data.
+#[test]
+fn float_depth_with_outliers_renders_without_rescaling() {
+    let d = scratch("outliers");
+    let (w, h) = (96usize, 64usize);
+    let mut depth = vec![2.0f32; w * h];
+    for y in 0..h {
+        for x in 48..w {
+            depth[y * w + x] = 1.95;
+        }
+    }
+    for i in [5, 700, 3000] {
+        depth[i] = 1e30;
+    }
+    let header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({h}, {w}), }}\n");
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    npy.extend((header.len() as u16).to_le_bytes());
+    npy.extend(header.as_bytes());
+    npy.extend(depth.iter().flat_map(|v| v.to_le_bytes()));
+    let (dpath, kpath, ao) = (d.join("d.npy"), d.join("k.json"), d.join("ao.npy"));
+    std::fs::write(&dpath, npy).unwrap();
+    std::fs::write(
+        &kpath,
+        r#"{"fx": 80, "fy": 80, "cx": 47.5, "cy": 31.5, "width": 96, "height": 64, "depth_scale": 0.001}"#,
+    )
+    .unwrap();
+    let out = obscura(&[
+        "render",
+        "--depth",
+        s(&dpath),
+        "--intrinsics",
+        s(&kpath),
+        "--out",
+        s(&ao),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("depth 1.950.."),
+        "float depth is not rescaled: {err}"
+    );
+    let v = read_npy_f32(&ao, h, w);
+    // Lower side of the step, just before it (the step faces it), against open floor.
+    let crease = v[32 * w + 46];
+    let open = v[32 * w + 20];
+    assert!(crease < open - 0.05, "crease {crease}, open floor {open}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// The shared real depth maps render with their intrinsics (the Middlebury motorcycle:
 /// the motorcycle is darker in its creases than the open floor), and bad depth input
 /// fails cleanly.
@@ -366,6 +436,35 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         dark > 1000 && dark < 741 * 500 / 2,
         "{dark} occluded pixels"
     );
+    // The same AO as float32 .npy (1 = unoccluded), the PNG's values before 8-bit rounding;
+    // --runs is honoured on the depth-map path as on the scene path.
+    let ao_npy = d.join("ao.npy");
+    let out = obscura(&[
+        "render",
+        "--depth",
+        &moto,
+        "--intrinsics",
+        &moto_k,
+        "--runs",
+        "2",
+        "--out",
+        s(&ao_npy),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("median") && err.contains("over 2 runs"),
+        "{err}"
+    );
+    let floats = read_npy_f32(&ao_npy, 500, 741);
+    for (f, p) in floats.iter().zip(img.pixels()) {
+        assert!((0.0..=1.0).contains(f), "{f}");
+        assert!(
+            (f * 255.0 - p[0] as f32).abs() <= 0.5 + 1e-3,
+            "{f} vs {}",
+            p[0]
+        );
+    }
     let redwood = format!("{shared}/redwood/redwood_depth_mm.png");
     let out = obscura(&[
         "render",
