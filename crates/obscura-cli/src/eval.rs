@@ -752,9 +752,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let table = format!(
         "{}{}{}{}",
         mixed_summary(&rows),
+        frontier_table(&means),
         summary_table(&rows),
-        temporal_table(&rows, a),
-        frontier_table(&means)
+        temporal_table(&rows, a)
     );
     print!("{table}");
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
@@ -1146,6 +1146,7 @@ fn frontier_table(means: &[VariantMean]) -> String {
             m.variant, m.rmse, m.bias, m.ms
         );
     }
+    s.push('\n');
     s
 }
 
@@ -1153,7 +1154,7 @@ fn frontier_table(means: &[VariantMean]) -> String {
 /// estimator; frontier points filled, labelled and joined.
 fn frontier_plot(means: &[VariantMean]) -> String {
     let dominated = pareto(&means.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
-    let (w, h, m, right) = (640.0, 400.0, 60.0, 300.0);
+    let (w, h, m, right) = (640.0, 400.0, 60.0, 440.0);
     let tmax = means.iter().map(|v| v.ms).fold(1e-9, f64::max) * 1.05;
     let emax = means.iter().map(|v| v.rmse).fold(1e-9, f64::max) * 1.05;
     let px = |t: f64| m + t / tmax * w;
