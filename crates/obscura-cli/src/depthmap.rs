@@ -315,10 +315,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     // The default radius is 3% of the diagonal of the valid points' bounds, the rule used
     // for meshes, with the bounds taken between the 1st and 99th percentiles per axis so a
     // few outliers (sensor spikes, 1e30 fill values) do not set it.
-    let (lo, hi) = (
-        percentile_bounds(&points, 0.01),
-        percentile_bounds(&points, 0.99),
-    );
+    let (lo, hi) = percentile_bounds(&points, 0.01, 0.99);
     let radius = a.radius.unwrap_or(0.03 * (hi - lo).length());
     let (zmin, zmax) = points
         .iter()
@@ -412,17 +409,21 @@ fn back_project(map: &DepthMap, k: &Intrinsics) -> Vec<glam::Vec3> {
         .collect()
 }
 
-/// Per axis, the value below which a fraction `q` of the points lie (nearest rank).
-fn percentile_bounds(points: &[glam::Vec3], q: f32) -> glam::Vec3 {
-    let mut out = [0.0f32; 3];
+/// Per axis, the values below which fractions `lo` and `hi` of the points lie (nearest
+/// rank), as two corners.
+fn percentile_bounds(points: &[glam::Vec3], lo: f32, hi: f32) -> (glam::Vec3, glam::Vec3) {
+    let (mut a, mut b) = ([0.0f32; 3], [0.0f32; 3]);
     let mut axis: Vec<f32> = Vec::with_capacity(points.len());
-    for (a, o) in out.iter_mut().enumerate() {
+    let rank = |q: f32, n: usize| ((q * (n - 1) as f32).round() as usize).min(n - 1);
+    for k in 0..3 {
         axis.clear();
-        axis.extend(points.iter().map(|p| p[a]));
-        let i = ((q * (axis.len() - 1) as f32).round() as usize).min(axis.len() - 1);
-        *o = *axis.select_nth_unstable_by(i, f32::total_cmp).1;
+        axis.extend(points.iter().map(|p| p[k]));
+        let (i, j) = (rank(lo, axis.len()), rank(hi, axis.len()));
+        a[k] = *axis.select_nth_unstable_by(i, f32::total_cmp).1;
+        // After the first selection everything from i on is >= a[k]: select j within it.
+        b[k] = *axis[i..].select_nth_unstable_by(j - i, f32::total_cmp).1;
     }
-    glam::Vec3::from(out)
+    (glam::Vec3::from(a), glam::Vec3::from(b))
 }
 
 fn bytemuck_bytes(v: &[f32]) -> Vec<u8> {

@@ -1077,6 +1077,8 @@ struct VariantMean {
     rmse: f64,
     bias: f64,
     ms: f64,
+    /// The variant that beats it (`pareto`), or `None` on the frontier.
+    beaten_by: Option<usize>,
 }
 
 /// Every timed variant's mean RMSE, bias and time over the views, in evaluation order.
@@ -1094,7 +1096,12 @@ fn variant_means(rows: &[Row]) -> Vec<VariantMean> {
             rmse: mine.iter().map(|x| x.rmse as f64).sum::<f64>() / n,
             bias: mine.iter().map(|x| x.bias as f64).sum::<f64>() / n,
             ms: mine.iter().filter_map(|x| x.ms).sum::<f64>() / n,
+            beaten_by: None,
         });
+    }
+    let beaten = pareto(&out.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
+    for (m, b) in out.iter_mut().zip(beaten) {
+        m.beaten_by = b;
     }
     out
 }
@@ -1130,13 +1137,12 @@ fn frontier_table(means: &[VariantMean]) -> String {
     if means.len() < 2 {
         return String::new();
     }
-    let dominated = pareto(&means.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
     let mut order: Vec<usize> = (0..means.len()).collect();
     order.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
     let mut s = String::from("\n### Quality-versus-time frontier\n\nMean over the views of RMSE against ray-traced AO and of the frame time, every variant by time. **frontier**: no other variant is at most as slow and more accurate; the others name the faster-or-equal variant that beats them. Pick the row that fits your budget.\n\n| variant | RMSE | bias | ms | |\n|---|---|---|---|---|\n");
     for i in order {
         let m = &means[i];
-        let mark = match dominated[i] {
+        let mark = match m.beaten_by {
             None => "**frontier**".to_string(),
             Some(j) => format!("beaten by {}", means[j].variant),
         };
@@ -1153,7 +1159,6 @@ fn frontier_table(means: &[VariantMean]) -> String {
 /// The frontier as a picture: one point per variant (mean time, mean RMSE), coloured by
 /// estimator; frontier points filled, labelled and joined.
 fn frontier_plot(means: &[VariantMean]) -> String {
-    let dominated = pareto(&means.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
     let (w, h, m, right) = (640.0, 400.0, 60.0, 440.0);
     let tmax = means.iter().map(|v| v.ms).fold(1e-9, f64::max) * 1.05;
     let emax = means.iter().map(|v| v.rmse).fold(1e-9, f64::max) * 1.05;
@@ -1167,31 +1172,14 @@ fn frontier_plot(means: &[VariantMean]) -> String {
             .position(|x| *x == e)
             .map_or("#222222", |i| colors[i])
     };
-    let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<rect x=\"{m}\" y=\"20\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>\n",
+    let mut s = plot_axes(
         w + m + right,
-        h + m + 30.0
-    );
-    for k in 0..=4 {
-        let t = tmax * k as f64 / 4.0;
-        let e = emax * k as f64 / 4.0;
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{t:.0}</text>\n<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{e:.3}</text>",
-            px(t),
-            20.0 + h + 15.0,
-            m - 4.0,
-            py(e) + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">mean ms per frame (every pass)</text>\n<text x=\"14\" y=\"{1}\" transform=\"rotate(-90 14 {1})\" text-anchor=\"middle\">mean RMSE vs ray-traced</text>",
-        m + w / 2.0,
-        20.0 + h / 2.0
+        (w, h, m),
+        (tmax, emax),
+        ("mean ms per frame (every pass)", "mean RMSE vs ray-traced"),
     );
     let mut front: Vec<usize> = (0..means.len())
-        .filter(|&i| dominated[i].is_none())
+        .filter(|&i| means[i].beaten_by.is_none())
         .collect();
     front.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
     let line: Vec<String> = front
@@ -1203,9 +1191,9 @@ fn frontier_plot(means: &[VariantMean]) -> String {
         "<polyline points=\"{}\" fill=\"none\" stroke=\"#555\" stroke-dasharray=\"4 3\"/>",
         line.join(" ")
     );
-    for (i, v) in means.iter().enumerate() {
+    for v in means {
         let c = color(&v.estimator);
-        let fill = if dominated[i].is_none() { c } else { "none" };
+        let fill = if v.beaten_by.is_none() { c } else { "none" };
         let _ = writeln!(
             s,
             "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{fill}\" stroke=\"{c}\"><title>{}: {:.4}, {:.1} ms</title></circle>",
@@ -1239,6 +1227,39 @@ fn frontier_plot(means: &[VariantMean]) -> String {
     s
 }
 
+/// An SVG plot up to its points: a `width`-wide canvas, the w × h frame at (m, 20), five
+/// tick labels per axis from 0 to `tmax` ms and `emax` RMSE, and the two axis titles.
+fn plot_axes(
+    width: f64,
+    (w, h, m): (f64, f64, f64),
+    (tmax, emax): (f64, f64),
+    (xlabel, ylabel): (&str, &str),
+) -> String {
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<rect x=\"{m}\" y=\"20\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>\n",
+        h + m + 30.0
+    );
+    for k in 0..=4 {
+        let (t, e) = (tmax * k as f64 / 4.0, emax * k as f64 / 4.0);
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{t:.0}</text>\n<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{e:.3}</text>",
+            m + t / tmax * w,
+            20.0 + h + 15.0,
+            m - 4.0,
+            20.0 + h - e / emax * h + 4.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{xlabel}</text>\n<text x=\"14\" y=\"{2}\" transform=\"rotate(-90 14 {2})\" text-anchor=\"middle\">{ylabel}</text>",
+        m + w / 2.0,
+        20.0 + h + 32.0,
+        20.0 + h / 2.0
+    );
+    s
+}
+
 /// Quality (RMSE) against time, one point per view and mode.
 fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
     let pts: Vec<&Row> = rows.iter().filter(|r| r.ms.is_some()).collect();
@@ -1246,36 +1267,14 @@ fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
     let tmax = pts.iter().filter_map(|r| r.ms).fold(1e-9, f64::max) * 1.1;
     let emax = pts.iter().map(|r| r.rmse as f64).fold(1e-9, f64::max) * 1.1;
     let colors = ["#222222", "#1f77b4", "#e6730f", "#2ca02c", "#9467bd"];
-    let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<rect x=\"{m}\" y=\"20\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>\n",
+    let mut s = plot_axes(
         w + 2.0 * m + 140.0,
-        h + m + 30.0
+        (w, h, m),
+        (tmax, emax),
+        ("median ms (prepare + AO)", "RMSE vs ray-traced"),
     );
     let px = |t: f64| m + t / tmax * w;
     let py = |e: f64| 20.0 + h - e / emax * h;
-    for k in 0..=4 {
-        let t = tmax * k as f64 / 4.0;
-        let e = emax * k as f64 / 4.0;
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{t:.0}</text>",
-            px(t),
-            20.0 + h + 15.0
-        );
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{e:.3}</text>",
-            m - 4.0,
-            py(e) + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">median ms (prepare + AO)</text>",
-        m + w / 2.0,
-        20.0 + h + 32.0
-    );
-    let _ = writeln!(s, "<text x=\"14\" y=\"{0}\" transform=\"rotate(-90 14 {0})\" text-anchor=\"middle\">RMSE vs ray-traced</text>", 20.0 + h / 2.0);
     for (vi, (name, _)) in variants.iter().enumerate() {
         let c = colors[vi % colors.len()];
         for r in pts.iter().filter(|r| &r.variant == name) {

@@ -10,6 +10,11 @@ pub fn check_png_path(path: &Path) -> Result<()> {
     if !ext.eq_ignore_ascii_case("png") {
         bail!("output `{}` must end in .png", path.display());
     }
+    check_folder(path)
+}
+
+/// Checks that the folder `path` would be written into exists.
+fn check_folder(path: &Path) -> Result<()> {
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -29,7 +34,7 @@ pub fn check_png_path(path: &Path) -> Result<()> {
 pub fn check_ao_path(path: &Path) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if ext.eq_ignore_ascii_case("npy") {
-        return check_png_path(&path.with_extension("png"));
+        return check_folder(path);
     }
     if !ext.eq_ignore_ascii_case("png") {
         bail!(

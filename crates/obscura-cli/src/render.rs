@@ -645,13 +645,7 @@ fn orbit(
         times.push(t.elapsed().as_secs_f64() * 1e3);
         let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
         let path = dir.join(format!("frame_{k:04}.png"));
-        save_png(
-            &path,
-            &to_gray8(&values),
-            a.width,
-            a.height,
-            image::ExtendedColorType::L8,
-        )?;
+        save_ao(&path, &values, a.width, a.height)?;
         previous = Some(c);
         progress(k + 1, n, &path);
     }
@@ -679,13 +673,6 @@ pub(crate) fn progress(done: u32, total: u32, what: &std::path::Path) {
 }
 
 /// AO in [0, 1] as 8-bit gray (white = unoccluded).
-pub(crate) fn to_gray8(values: &[f32]) -> Vec<u8> {
-    values
-        .iter()
-        .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-        .collect()
-}
-
 /// The prepared `vec4(depth, normal)` buffer at full resolution: read directly, or
 /// re-interleaved on the CPU from the deinterleaved layers (fused modes keep no full copy),
 /// or, below full resolution without a full-resolution copy, prepared once more by a
