@@ -281,6 +281,53 @@ fn half_to_f32(h: u16) -> f32 {
     }
 }
 
+/// The depth noise model `--depth-noise` names for `map` (see its help), and a description
+/// for stderr.
+fn noise_model(arg: &str, map: &DepthMap, scale: f32) -> Result<(obscura::DepthNoise, String)> {
+    use obscura::DepthNoise;
+    let quantisation = || DepthNoise {
+        constant: scale / 12f32.sqrt(),
+        ..DepthNoise::NONE
+    };
+    let model = match arg.trim() {
+        "auto" if map.integer => quantisation(),
+        "auto" | "none" => DepthNoise::NONE,
+        "kinect" => DepthNoise {
+            quadratic: 0.0015,
+            ..if map.integer {
+                quantisation()
+            } else {
+                DepthNoise::NONE
+            }
+        },
+        other => {
+            let v = crate::render::parse_floats(other, "--depth-noise").with_context(|| {
+                format!("--depth-noise `{other}`: expected auto, none, kinect or C,L,Q")
+            })?;
+            let [constant, linear, quadratic] = v[..] else {
+                bail!(
+                    "--depth-noise needs 3 numbers C,L,Q (σ = C + L·z + Q·z²), got {}",
+                    v.len()
+                );
+            };
+            DepthNoise {
+                constant,
+                linear,
+                quadratic,
+            }
+        }
+    };
+    let text = if model.is_none() {
+        "none (clean depth)".to_string()
+    } else {
+        format!(
+            "σ = {:.3e} + {:.3e}·z + {:.3e}·z² ({})",
+            model.constant, model.linear, model.quadratic, arg
+        )
+    };
+    Ok((model, text))
+}
+
 /// `obscura render --depth FILE --intrinsics JSON`.
 pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
     use obscura::{Ao, AoInput, DepthConvention, GpuContext};
@@ -307,6 +354,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
             k.depth_scale
         );
     }
+    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &map, k.depth_scale)?;
     let points = back_project(&map, &k);
     if points.is_empty() {
         bail!("the depth map has no valid depth (every value is 0, NaN or infinite)");
@@ -367,7 +415,10 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     );
     let view = tex.create_view(&Default::default());
     let options = crate::render::options(a);
-    let params = crate::render::params(a, radius);
+    let params = obscura::AoParams {
+        depth_noise,
+        ..crate::render::params(a, radius)
+    };
     let mut ao = Ao::new(&ctx.device, options)?;
     let input = AoInput {
         depth: &view,
@@ -379,7 +430,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     };
     ao.validate(&input, &params)?;
     eprintln!(
-        "ao: {} ({} samples/pixel), radius {radius:.3}",
+        "ao: {} ({} samples/pixel), radius {radius:.3}, depth noise {noise_text}",
         options.estimator.name(),
         options.samples_per_pixel(),
     );

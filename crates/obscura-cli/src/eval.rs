@@ -14,7 +14,7 @@ use obscura::{
     Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext, Resolution,
     Upsampler,
 };
-use obscura_eval::{cache, metrics, views, Bvh, Falloff, TraceSettings};
+use obscura_eval::{cache, metrics, sensor, views, Bvh, Falloff, TraceSettings};
 use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -140,9 +140,35 @@ pub struct EvalArgs {
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
     #[arg(long, default_value_t = 16)]
     pub history: u32,
+    /// Evaluate on sensor-like depth made from each view's clean depth (the view scaled so
+    /// its farthest surface is 5 m; see obscura_eval::sensor), with normals reconstructed
+    /// from it; the truth is the clean scene's.
+    #[arg(long, value_enum, default_value_t = SensorArg::None)]
+    pub sensor: SensorArg,
+    /// With --sensor: the depth noise model obscura is given.
+    #[arg(long, value_enum, default_value_t = NoiseArg::Known)]
+    pub depth_noise: NoiseArg,
     /// Degrees the orbit turns per frame (with --frames > 1).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub orbit_step: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SensorArg {
+    /// The clean rendered depth.
+    None,
+    /// Axial noise σ = 1.5 mm · z², millimetre steps.
+    Kinect,
+    /// Stereo disparity noise and quantisation.
+    Stereo,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NoiseArg {
+    /// None: obscura treats the depth as clean.
+    None,
+    /// The simulated sensor's own σ(z).
+    Known,
 }
 
 /// One evaluated view: what to load and how to look at it.
@@ -192,6 +218,69 @@ enum SampleChoice {
     Given,
     Split((u32, u32)),
     Preset(PresetArg),
+}
+
+/// Sensor-like linear depth from a G-buffer's depth (obscura_eval::sensor), as a texture.
+fn sensor_depth(
+    ctx: &GpuContext,
+    g: &obscura_scene::GBuffer,
+    input: &obscura::AoInput<'_>,
+    s: sensor::Sensor,
+) -> Result<(wgpu::Texture, wgpu::TextureView, obscura::DepthNoise)> {
+    let lin = input.projection.linearize(input.convention)?;
+    let clean: Vec<f32> = ctx
+        .read_f32(&g.depth)?
+        .into_iter()
+        .map(|z| lin.apply(z).unwrap_or(0.0))
+        .collect();
+    let focal_px = match input.projection {
+        obscura::Projection::Perspective { fov_y, .. } => {
+            0.5 * g.height as f32 / (0.5 * fov_y).tan()
+        }
+        _ => bail!("--sensor needs a perspective view"),
+    };
+    let (noisy, map) = sensor::simulate(&clean, focal_px, s, 0x5eed);
+    eprintln!(
+        "  {} depth: the view's depth range mapped onto {}..{} m",
+        s.name(),
+        sensor::NEAR_M,
+        sensor::FAR_M
+    );
+    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sensor depth"),
+        size: wgpu::Extent3d {
+            width: g.width,
+            height: g.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    ctx.queue.write_texture(
+        tex.as_image_copy(),
+        &noisy
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<u8>>(),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * g.width),
+            rows_per_image: Some(g.height),
+        },
+        tex.size(),
+    );
+    let view = tex.create_view(&Default::default());
+    let (constant, linear, quadratic) = map.sigma_in_depth(s.sigma_m(focal_px));
+    let noise = obscura::DepthNoise {
+        constant,
+        linear,
+        quadratic,
+    };
+    Ok((tex, view, noise))
 }
 
 /// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
@@ -504,11 +593,26 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // Screen-space AO in each mode, timed interleaved.
         let gpu_mesh = raster.upload(&ctx, &mesh)?;
         let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
-        let input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
-        let params = AoParams {
+        let mut input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
+        let noisy = match a.sensor {
+            SensorArg::None => None,
+            SensorArg::Kinect => Some(sensor::Sensor::Kinect),
+            SensorArg::Stereo => Some(sensor::Sensor::Stereo),
+        }
+        .map(|s| sensor_depth(&ctx, &g, &input, s))
+        .transpose()?;
+        let mut params = AoParams {
             radius,
             ..Default::default()
         };
+        if let Some((_, view, noise)) = &noisy {
+            input.depth = view;
+            input.convention = obscura::DepthConvention::LinearView;
+            input.normals = None;
+            if a.depth_noise == NoiseArg::Known {
+                params.depth_noise = *noise;
+            }
+        }
         let mut times = vec![Vec::new(); aos.len()];
         for round in 0..=a.runs {
             for (i, ao) in aos.iter_mut().enumerate() {

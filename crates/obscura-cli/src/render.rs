@@ -278,6 +278,18 @@ pub struct RenderArgs {
         conflicts_with = "scene"
     )]
     pub depth: Option<PathBuf>,
+    /// The depth map's noise σ(z), which obscura fits planes over and does not read as
+    /// occlusion: `auto` (integer maps: the quantisation, step / √12; float maps: none),
+    /// `none`, `kinect` (structured light, 1.5 mm · z² with z in metres: use with depth in
+    /// metres), or `C,L,Q` for σ = C + L·z + Q·z² in scene units.
+    #[arg(
+        long,
+        value_name = "MODEL",
+        default_value = "auto",
+        requires = "depth",
+        allow_hyphen_values = true
+    )]
+    pub depth_noise: String,
     /// Pinhole intrinsics of --depth as JSON: fx, fy, cx, cy (pixels, OpenCV convention),
     /// width, height, and optionally depth_scale (scene units per stored unit; 0.001).
     #[arg(long, value_name = "JSON", requires = "depth")]

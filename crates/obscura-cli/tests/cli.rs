@@ -482,9 +482,36 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert_eq!(
-        image::open(&ao).unwrap().to_luma8().dimensions(),
-        (640, 480)
+    let plain = image::open(&ao).unwrap().to_luma8();
+    assert_eq!(plain.dimensions(), (640, 480));
+    // Redwood's sensor noise read as occlusion darkens the walls; with the Kinect noise
+    // model the same map reads brighter (mostly open walls and floor).
+    let ao_k = d.join("ao_kinect.png");
+    let out = obscura(&[
+        "render",
+        "--depth",
+        &redwood,
+        "--intrinsics",
+        &format!("{data}/redwood.json"),
+        "--resolution",
+        "half",
+        "--depth-noise",
+        "kinect",
+        "--out",
+        s(&ao_k),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && err.contains("depth noise σ"),
+        "{err}"
+    );
+    let mean = |img: &image::GrayImage| {
+        img.pixels().map(|p| p[0] as f64).sum::<f64>() / (255.0 * img.pixels().len() as f64)
+    };
+    let (m0, m1) = (mean(&plain), mean(&image::open(&ao_k).unwrap().to_luma8()));
+    assert!(
+        m1 > m0 + 0.03,
+        "mean AO {m0} without the noise model, {m1} with it"
     );
     std::fs::remove_dir_all(&d).unwrap();
 
@@ -520,6 +547,26 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         "unsupported",
     );
     assert_fails("depth-no-k", &["render", "--depth", &moto], "--intrinsics");
+    let moto_args = |noise: &'static str| {
+        vec![
+            "render".to_string(),
+            "--depth".into(),
+            moto.clone(),
+            "--intrinsics".into(),
+            moto_k.clone(),
+            "--depth-noise".into(),
+            noise.into(),
+        ]
+    };
+    for (name, noise, says) in [
+        ("noise-count", "1,2", "3 numbers"),
+        ("noise-negative", "-1,0,0", "depth_noise.constant"),
+        ("noise-word", "loud", "expected auto, none, kinect"),
+    ] {
+        let args = moto_args(noise);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_fails(name, &args, says);
+    }
     assert_fails(
         "depth-bad-k",
         &["render", "--depth", &moto, "--intrinsics", &npy_s],

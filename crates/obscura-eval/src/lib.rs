@@ -5,6 +5,7 @@
 pub mod bvh;
 pub mod cache;
 pub mod metrics;
+pub mod sensor;
 pub mod trace;
 pub mod views;
 

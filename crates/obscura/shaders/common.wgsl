@@ -45,6 +45,19 @@ fn view_position_scaled(p: vec2<f32>, d: f32, ndc_to_view: vec2<f32>) -> vec3<f3
     return vec3<f32>(xy, -d);
 }
 
+// Depth noise σ at linear depth `d` (AoParams::depth_noise; 0 for rendered depth).
+fn depth_sigma(d: f32) -> f32 {
+    return max(frame.noise.x + (frame.noise.y + frame.noise.z * d) * d, 0.0);
+}
+
+// Where the estimators measure occluders from: the surface point of pixel-space `p` at
+// depth `d`, raised NOISE_OFFSET_SIGMAS σ along its normal `n`, so depth noise within that
+// of the tangent plane is not occlusion. The surface itself for rendered depth.
+// Mirror: `FrameUniforms::estimator_origin`.
+fn estimator_origin(p: vec2<f32>, d: f32, n: vec3<f32>) -> vec3<f32> {
+    return view_position(p, d) + n * (NOISE_OFFSET_SIGMAS * depth_sigma(d));
+}
+
 // Deinterleaved layer of full-resolution pixel `p` for an n x n split (src/layout.rs).
 fn layer_of(p: vec2<u32>, n: u32) -> u32 {
     return p.x % n + n * (p.y % n);

@@ -46,7 +46,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         return 1.0;
     }
     let normal = centre.yzw;
-    let pos = view_position(vec2<f32>(p) + 0.5, d);
+    let pos = estimator_origin(vec2<f32>(p) + 0.5, d, centre.yzw);
     var v = vec3<f32>(0.0, 0.0, 1.0);
     if frame.perspective != 0u {
         v = normalize(-pos);

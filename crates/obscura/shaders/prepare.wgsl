@@ -1,7 +1,8 @@
 // Prepare pass: raw depth -> linear view depth, plus a view-space normal (decoded from the
 // caller's normal texture, or reconstructed from depth), packed as vec4(d, n.xyz).
 // Sky / missing depth is stored as d = 0. Composed with a depth_input_*.wgsl,
-// prepare_input.wgsl, a normals_*.wgsl (`view_normal`: reconstructed or given) and a
+// prepare_input.wgsl, a normals_*.wgsl (`view_normal`: reconstructed or given), then
+// surface_plain.wgsl or normals_fit.wgsl (`surface`: vec4(depth, normal)) and a
 // prepare_store_*.wgsl (declares @binding(3) and `store_prepared`: full resolution, or
 // straight into deinterleaved layers). Separate fragments rather than a branch: an untaken
 // uniform branch still cost lavapipe ~1/3 of this pass (BENCHMARKS.md).
@@ -18,6 +19,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         store_prepared(gid, vec4<f32>(0.0, 0.0, 0.0, 1.0));
         return;
     }
-    let c = view_position(vec2<f32>(p) + 0.5, d);
-    store_prepared(gid, vec4<f32>(d, view_normal(p, c, d)));
+    store_prepared(gid, surface(p, d));
 }

@@ -38,9 +38,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pick = pick_child(t, depth, alive, count);
     var picked = v[pick];
     if !CHILD_NORMALS {
-        let p = 2 * t + child_offset(pick);
-        let d = depth[pick];
-        picked = vec4<f32>(d, view_normal(p, view_position(vec2<f32>(p) + 0.5, d), d));
+        picked = surface(2 * t + child_offset(pick), depth[pick]);
     }
     textureStore(level_out, t, recentred(t, pick, picked));
 }

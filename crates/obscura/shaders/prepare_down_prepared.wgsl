@@ -6,7 +6,7 @@ const CHILD_NORMALS: bool = true;
 fn store_child(c: vec2<i32>, d: f32) -> vec4<f32> {
     var v = vec4<f32>(0.0, 0.0, 0.0, 1.0);
     if d > 0.0 {
-        v = vec4<f32>(d, view_normal(c, view_position(vec2<f32>(c) + 0.5, d), d));
+        v = surface(c, d);
     }
     textureStore(full_out, c, v);
     return v;

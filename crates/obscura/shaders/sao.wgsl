@@ -49,7 +49,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         return 1.0;
     }
     let n = centre.yzw;
-    let pos = view_position(vec2<f32>(p) + 0.5, d);
+    let pos = estimator_origin(vec2<f32>(p) + 0.5, d, centre.yzw);
     let r_px = radius_px(d);
     let r2 = frame.radius * frame.radius;
     let count = DIRECTIONS * STEPS;

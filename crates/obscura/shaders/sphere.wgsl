@@ -28,7 +28,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     if d <= 0.0 {
         return 1.0;
     }
-    let pos = view_position(vec2<f32>(p) + 0.5, d);
+    let pos = estimator_origin(vec2<f32>(p) + 0.5, d, centre.yzw);
     // VO: radius R around the point; VAO: radius R/2, centre R/2 along the normal.
     let rs = frame.radius * (1.0 - SPHERE_OFFSET);
     let c = pos + centre.yzw * (frame.radius * SPHERE_OFFSET);

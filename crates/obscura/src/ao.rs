@@ -369,6 +369,8 @@ pub struct ResourceCount {
 struct PrepareBinding {
     depth: wgpu::TextureView,
     normals: Option<wgpu::TextureView>,
+    /// Bound to the plane-fitting prepare pipeline.
+    fit: bool,
     bind_group: wgpu::BindGroup,
 }
 
@@ -447,6 +449,9 @@ pub struct Ao {
     options: AoOptions,
     /// Prepare for [depth-format, float] inputs × [given, reconstructed] normals.
     prepare: [[Compiled; 2]; 2],
+    /// Prepare with depth and normals from plane fits, for [depth-format, float] inputs:
+    /// compiled on the first frame with a depth noise model ([`AoParams::depth_noise`]).
+    prepare_fit: [Option<Compiled>; 2],
     /// The pipelines of the passes after prepare (each compiled once).
     later: Vec<Compiled>,
     /// What prepare writes, and the passes after it in execution order.
@@ -805,6 +810,7 @@ impl Ao {
                         depth,
                         store: prepare_store,
                         reconstruct,
+                        fit: false,
                     },
                     &options,
                 )
@@ -846,6 +852,7 @@ impl Ao {
         Ok(Self {
             options,
             prepare,
+            prepare_fit: [None, None],
             later,
             prepare_store,
             steps,
@@ -1231,13 +1238,32 @@ impl Ao {
             return Err(Error::Gpu("size-dependent resources missing".into()));
         };
         let normals = input.normals.map_or(&self.dummy_normals, |n| n.0);
-        let prepare = &self.prepare[match binding {
+        let b = match binding {
             DepthBinding::Depth => 0,
             DepthBinding::Float => 1,
-        }][input.normals.is_none() as usize];
+        };
+        let fit = input.normals.is_none() && !params.depth_noise.is_none();
+        if fit && self.prepare_fit[b].is_none() {
+            let scope = ErrorScope::push(device);
+            let pass = Pass::Prepare {
+                depth: binding,
+                store: self.prepare_store,
+                reconstruct: true,
+                fit: true,
+            };
+            let compiled = compile(device, pass, &self.options);
+            scope.pop("compiling the noisy-depth prepare pass")?;
+            self.prepare_fit[b] = Some(compiled);
+        }
+        let prepare = match (&self.prepare_fit[b], fit) {
+            (Some(c), true) => c,
+            _ => &self.prepare[b][input.normals.is_none() as usize],
+        };
         // The same input views as last frame (an engine's usual case): reuse the bind group.
         let cached = sized.prepare_binding.as_ref().is_some_and(|b| {
-            &b.depth == input.depth && b.normals.as_ref() == input.normals.map(|n| n.0)
+            &b.depth == input.depth
+                && b.normals.as_ref() == input.normals.map(|n| n.0)
+                && b.fit == fit
         });
         if !cached {
             let mut views = vec![(1, input.depth), (2, normals)];
@@ -1252,6 +1278,7 @@ impl Ao {
             sized.prepare_binding = Some(PrepareBinding {
                 depth: input.depth.clone(),
                 normals: input.normals.map(|n| n.0.clone()),
+                fit,
                 bind_group: bg,
             });
         }

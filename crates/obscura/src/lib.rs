@@ -43,6 +43,6 @@ pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
 pub use settings::{
-    AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, Estimator, Preset,
-    PyramidBuild, Resolution, Upsampler,
+    AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
+    Preset, PyramidBuild, Resolution, Upsampler,
 };

@@ -45,9 +45,35 @@ fn axis_derivative(
     None
 }
 
-/// The prepare pass with normals reconstructed from depth: `vec4(d, n)` per viewport pixel.
+/// The three-pixel normal of shaders/normals_reconstruct.wgsl (`view_normal`).
+fn reconstructed_normal(
+    f: &FrameUniforms,
+    raw: &[f32],
+    raw_width: u32,
+    p: [i32; 2],
+    d: f32,
+) -> Vec3 {
+    let c = f.view_position(centre(p), d);
+    let dx = axis_derivative(f, raw, raw_width, p, [1, 0], c, d);
+    let dy = axis_derivative(f, raw, raw_width, p, [0, 1], c, d);
+    match (dx, dy) {
+        (Some(dx), Some(dy)) if dy.cross(dx).length_squared() > 0.0 => {
+            let nn = dy.cross(dx).normalize();
+            if nn.dot(c) > 0.0 {
+                -nn
+            } else {
+                nn
+            }
+        }
+        _ => (-c).normalize(),
+    }
+}
+
+/// The prepare pass with normals reconstructed from depth: `vec4(d, n)` per viewport pixel;
+/// with a depth noise model in `f`, depth and normal from plane fits ([`fit_surface`]).
 pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let noisy = f.noise[..3].iter().any(|c| *c != 0.0);
     let mut out = Vec::with_capacity((w * h) as usize);
     for y in 0..h {
         for x in 0..w {
@@ -55,26 +81,143 @@ pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {
             let d = linear_depth_at(f, raw, raw_width, p);
             if d <= 0.0 {
                 out.push(Vec4::new(0.0, 0.0, 0.0, 1.0));
-                continue;
+            } else if noisy {
+                out.push(fit_surface(f, raw, raw_width, p, d));
+            } else {
+                out.push(Vec4::from((
+                    d,
+                    reconstructed_normal(f, raw, raw_width, p, d),
+                )));
             }
-            let c = f.view_position(centre(p), d);
-            let dx = axis_derivative(f, raw, raw_width, p, [1, 0], c, d);
-            let dy = axis_derivative(f, raw, raw_width, p, [0, 1], c, d);
-            let n = match (dx, dy) {
-                (Some(dx), Some(dy)) if dy.cross(dx).length_squared() > 0.0 => {
-                    let nn = dy.cross(dx).normalize();
-                    if nn.dot(c) > 0.0 {
-                        -nn
-                    } else {
-                        nn
-                    }
-                }
-                _ => (-c).normalize(),
-            };
-            out.push(Vec4::new(d, n.x, n.y, n.z));
         }
     }
     out
+}
+
+/// Weighted plane sums: `m` = Σ x xᵀ and `r` = Σ x (f − fc) for x = (1, tap x, tap y).
+struct PlaneSums {
+    m: glam::Mat3,
+    r: Vec3,
+}
+
+impl PlaneSums {
+    /// No taps (glam's `Mat3::default()` is the identity, not zero).
+    const EMPTY: PlaneSums = PlaneSums {
+        m: glam::Mat3::ZERO,
+        r: Vec3::ZERO,
+    };
+
+    fn add(&mut self, o: [f32; 2], g: f32) {
+        let x = Vec3::new(1.0, o[0], o[1]);
+        self.m += glam::Mat3::from_cols(x * x.x, x * x.y, x * x.z);
+        self.r += x * g;
+    }
+
+    /// `solve_plane` of shaders/normals_fit.wgsl: (f0, a, b) and whether it is a plane.
+    fn solve(&self, min_taps: f32) -> Option<Vec3> {
+        let m = self.m;
+        let det = m.determinant();
+        let n = m.x_axis.x;
+        // `det > …` is false for NaN too.
+        if n < min_taps || det.partial_cmp(&(1e-3 * n * n * n)) != Some(std::cmp::Ordering::Greater)
+        {
+            return None;
+        }
+        Some(Vec3::new(
+            glam::Mat3::from_cols(self.r, m.y_axis, m.z_axis).determinant() / det,
+            glam::Mat3::from_cols(m.x_axis, self.r, m.z_axis).determinant() / det,
+            glam::Mat3::from_cols(m.x_axis, m.y_axis, self.r).determinant() / det,
+        ))
+    }
+}
+
+/// Depth and normal of a pixel of noisy depth; mirrors `surface` in
+/// shaders/normals_fit.wgsl.
+pub fn fit_surface(f: &FrameUniforms, raw: &[f32], raw_width: u32, p: [i32; 2], d: f32) -> Vec4 {
+    use crate::shader::{FIT_MAX_STRIDE, FIT_NORMAL_TAN, FIT_RADIUS, FIT_SIGMAS, FIT_SLOPE};
+    let persp = f.perspective != 0;
+    let sigma = f.depth_sigma(d);
+    let footprint = if persp { d } else { 1.0 } / f.radius_to_px;
+    let need = sigma / (footprint * FIT_NORMAL_TAN);
+    let reach = if need * need <= 6.0 {
+        1
+    } else if need * need <= 50.0 {
+        2
+    } else {
+        FIT_RADIUS
+    };
+    let stride = (need / 14.0).ceil().clamp(1.0, FIT_MAX_STRIDE as f32) as i32;
+    let to_f = |v: f32| if persp { 1.0 / v } else { v };
+    let fc = to_f(d);
+    let side = 2 * FIT_RADIUS + 1;
+    let mut taps = Vec::with_capacity((side * side) as usize);
+    let mut first = PlaneSums::EMPTY;
+    for k in 0..side * side {
+        let o = [k % side - FIT_RADIUS, k / side - FIT_RADIUS];
+        if o[0].abs() > reach || o[1].abs() > reach {
+            taps.push(0.0);
+            continue;
+        }
+        let dq = linear_depth_at(
+            f,
+            raw,
+            raw_width,
+            [p[0] + o[0] * stride, p[1] + o[1] * stride],
+        );
+        let fq = if dq > 0.0 { to_f(dq) } else { 0.0 };
+        taps.push(fq);
+        let tol =
+            std::f32::consts::SQRT_2 * FIT_SIGMAS * sigma + FIT_SLOPE * footprint * stride as f32;
+        if o[0].abs() <= 1 && o[1].abs() <= 1 && dq > 0.0 && (dq - d).abs() <= tol {
+            first.add([o[0] as f32, o[1] as f32], fq - fc);
+        }
+    }
+    let fallback = || Vec4::from((d, reconstructed_normal(f, raw, raw_width, p, d)));
+    let Some(first) = first.solve(5.0) else {
+        return fallback();
+    };
+    let mut second = PlaneSums::EMPTY;
+    for (k, &fq) in taps.iter().enumerate() {
+        let k = k as i32;
+        let o = [
+            (k % side - FIT_RADIUS) as f32,
+            (k / side - FIT_RADIUS) as f32,
+        ];
+        let fp = fc + first.x + first.y * o[0] + first.z * o[1];
+        let (dq, dp) = (to_f(fq), to_f(fp));
+        let tol = FIT_SIGMAS * f.depth_sigma(dp) * (1.0 + (o[0] * o[0] + o[1] * o[1]) / 6.0).sqrt();
+        if fq != 0.0 && dp > 0.0 && (dq - dp).abs() <= tol {
+            second.add(o, fq - fc);
+        }
+    }
+    let Some(plane) = second.solve(6.0) else {
+        return fallback();
+    };
+    let f0 = fc + plane.x;
+    let dfit = to_f(f0);
+    if !(dfit > 0.0 && dfit.is_finite()) {
+        return fallback();
+    }
+    let k = glam::Vec2::new(
+        2.0 * f.inv_size[0] * f.ndc_to_view[0],
+        -2.0 * f.inv_size[1] * f.ndc_to_view[1],
+    );
+    let g = glam::Vec2::new(plane.y, plane.z) / (stride as f32 * k);
+    let ray = f.view_position(centre(p), 1.0);
+    let n = if persp {
+        g.extend(g.dot(ray.truncate()) - f0)
+    } else {
+        g.extend(1.0)
+    };
+    let len2 = n.length_squared();
+    if !(len2 > 0.0 && len2.is_finite()) {
+        return fallback();
+    }
+    let mut n = n / len2.sqrt();
+    if persp && n.dot(ray) > 0.0 {
+        n = -n;
+    }
+    Vec4::from((dfit, n))
 }
 
 /// What every estimator's pixel function reads: the frame, the compiled sample counts,
@@ -168,7 +311,9 @@ impl Pixels<'_> {
         (v.x > 0.0).then(|| Surface {
             d: v.x,
             n: Vec3::new(v.y, v.z, v.w),
-            pos: self.f.view_position(centre(p), v.x),
+            pos: self
+                .f
+                .estimator_origin(centre(p), v.x, Vec3::new(v.y, v.z, v.w)),
         })
     }
 

@@ -386,6 +386,46 @@ pub struct AoOptions {
     pub history: u32,
 }
 
+/// Per-pixel depth uncertainty of the input, σ(d) = `constant` + `linear` · d +
+/// `quadratic` · d² (clamped at 0), in view-space units at linear view depth d. A
+/// structured-light sensor in metres: σ ≈ 0.0015 · d² (Khoshelham & Elberink 2012); a
+/// stereo rig: σ ≈ δ / (f · B) · d² for disparity error δ pixels, focal length f pixels and
+/// baseline B; integer encodings add their quantisation step / √12. When non-zero:
+/// normals and depth come from planes fitted over a window wide enough for σ
+/// (shaders/normals_fit.wgsl), and the estimators measure occluders from the surface
+/// raised [`crate::shader::NOISE_OFFSET_SIGMAS`] σ along its normal, so noise near the
+/// tangent plane does not read as occlusion. Zero (the default): rendered depth, the
+/// passes are those without a noise model. The plane-fitting prepare pass is compiled on
+/// the first frame that gives a noise model.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct DepthNoise {
+    /// σ at depth 0, view-space units. Range: finite, ≥ 0.
+    pub constant: f32,
+    /// dσ/dd at depth 0 (unitless). Range: finite (negative allowed: a square in d).
+    pub linear: f32,
+    /// The d² coefficient, 1 / view-space units. Range: finite, ≥ 0.
+    pub quadratic: f32,
+}
+
+impl DepthNoise {
+    /// No noise: clean rendered depth.
+    pub const NONE: DepthNoise = DepthNoise {
+        constant: 0.0,
+        linear: 0.0,
+        quadratic: 0.0,
+    };
+
+    /// Whether σ is zero everywhere.
+    pub fn is_none(&self) -> bool {
+        self.constant == 0.0 && self.linear == 0.0 && self.quadratic == 0.0
+    }
+
+    /// σ at linear depth `d` (common.wgsl, `depth_sigma`).
+    pub fn sigma(&self, d: f32) -> f32 {
+        (self.constant + (self.linear + self.quadratic * d) * d).max(0.0)
+    }
+}
+
 impl Default for AoOptions {
     fn default() -> Self {
         Self {
@@ -424,6 +464,8 @@ pub struct AoParams {
     /// How the camera moved since the previous frame (used with [`AoOptions::history`]).
     /// Default [`CameraMotion::Still`].
     pub motion: CameraMotion,
+    /// The depth input's noise σ(d) (see [`DepthNoise`]). Default none (rendered depth).
+    pub depth_noise: DepthNoise,
 }
 
 /// The camera's motion since the previous recorded frame, for temporal accumulation.
@@ -452,6 +494,7 @@ impl Default for AoParams {
             strength: 1.0,
             max_radius_px: 256.0,
             motion: CameraMotion::Still,
+            depth_noise: DepthNoise::NONE,
         }
     }
 }
@@ -603,7 +646,25 @@ impl AoParams {
                 "a finite rigid transform (orthonormal rotation, translation, last row 0 0 0 1)",
             )?;
         }
-        Ok(())
+        let n = self.depth_noise;
+        check(
+            n.constant.is_finite() && n.constant >= 0.0,
+            "depth_noise.constant",
+            n.constant,
+            "a finite number >= 0 (view-space units)",
+        )?;
+        check(
+            n.linear.is_finite(),
+            "depth_noise.linear",
+            n.linear,
+            "a finite number",
+        )?;
+        check(
+            n.quadratic.is_finite() && n.quadratic >= 0.0,
+            "depth_noise.quadratic",
+            n.quadratic,
+            "a finite number >= 0 (1 / view-space units)",
+        )
     }
 }
 

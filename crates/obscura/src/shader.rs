@@ -50,6 +50,28 @@ pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
 /// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
 /// |error| ≤ 5e-5 (GTAO's `fast_acos`, shaders/gtao.wgsl, and its mirror).
 pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
+/// Noisy depth (shaders/normals_fit.wgsl): each pixel's plane is fitted to
+/// (2 · FIT_RADIUS + 1)² depths, taps `stride` pixels apart.
+pub const FIT_RADIUS: i32 = 3;
+/// The fit's window is the smallest (3 × 3, 5 × 5, 7 × 7 taps, then taps up to
+/// FIT_MAX_STRIDE pixels apart) whose normal has a standard error below this tangent
+/// (20°): wider windows smooth away real detail the size of the window. Chosen over all
+/// shared views with Kinect-like noise among tan 5°, 10° and 20° (GTAO, 2×2
+/// deinterleaved, no denoiser, FIT_SIGMAS 3, mean RMSE against ray-traced AO on six views 0.1359,
+/// 0.1295, 0.1250; docs/depth-noise.md).
+pub const FIT_NORMAL_TAN: f32 = 0.36;
+pub const FIT_MAX_STRIDE: i32 = 4;
+/// Taps whose depth is farther than FIT_SIGMAS σ from the plane (√2 FIT_SIGMAS σ from the
+/// centre's depth, plus FIT_SLOPE footprints per pixel of offset, in the first fit) belong
+/// to another surface. FIT_SLOPE = 4: surfaces up to 76° from facing the camera. 1.5:
+/// chosen over all shared views with Kinect-like noise among 1, 1.5, 2 and 3 (mean RMSE
+/// with the spatial denoiser 0.1004, 0.0980, 0.1011, 0.1198 at 20°; docs/depth-noise.md):
+/// wider bands merge real steps of the size of the noise into the plane.
+pub const FIT_SIGMAS: f32 = 1.5;
+pub const FIT_SLOPE: f32 = 4.0;
+/// The estimators measure occluders from the surface raised this many σ along its normal
+/// ([`crate::DepthNoise`]; common.wgsl, `estimator_origin`).
+pub const NOISE_OFFSET_SIGMAS: f32 = 1.0;
 /// Texel distance between the tent filter's taps.
 pub const TENT_SPACING: i32 = 2;
 
@@ -100,11 +122,13 @@ pub enum DepthBinding {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
     /// Linearize depth and build normals, stored as `store` says; `reconstruct`: normals
-    /// from depth (else from the caller's texture).
+    /// from depth (else from the caller's texture); `fit`: depth and normals from plane
+    /// fits for noisy depth (with `reconstruct`; [`crate::DepthNoise`]).
     Prepare {
         depth: DepthBinding,
         store: PrepareStore,
         reconstruct: bool,
+        fit: bool,
     },
     /// The randomized single full-resolution AO pass.
     AoFull { estimator: Estimator },
@@ -143,11 +167,12 @@ impl Pass {
             }));
         for depth in [DepthBinding::Depth, DepthBinding::Float] {
             for store in stores.clone() {
-                for reconstruct in [false, true] {
+                for (reconstruct, fit) in [(false, false), (true, false), (true, true)] {
                     v.push(Pass::Prepare {
                         depth,
                         store,
                         reconstruct,
+                        fit,
                     });
                 }
             }
@@ -256,6 +281,7 @@ impl Pass {
                 depth,
                 store,
                 reconstruct,
+                fit,
             } => {
                 let mut v = vec![
                     match depth {
@@ -267,6 +293,11 @@ impl Pass {
                         include_str!("../shaders/normals_reconstruct.wgsl")
                     } else {
                         include_str!("../shaders/normals_given.wgsl")
+                    },
+                    if fit {
+                        include_str!("../shaders/normals_fit.wgsl")
+                    } else {
+                        include_str!("../shaders/surface_plain.wgsl")
                     },
                 ];
                 v.extend(match store {
@@ -454,6 +485,12 @@ pub fn prelude() -> String {
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
          const ACOS_POLY: array<f32, 4> = array<f32, 4>({});\n\
+         const FIT_RADIUS: i32 = {FIT_RADIUS};\n\
+         const FIT_NORMAL_TAN: f32 = {FIT_NORMAL_TAN:?};\n\
+         const FIT_MAX_STRIDE: i32 = {FIT_MAX_STRIDE};\n\
+         const FIT_SIGMAS: f32 = {FIT_SIGMAS:?};\n\
+         const FIT_SLOPE: f32 = {FIT_SLOPE:?};\n\
+         const NOISE_OFFSET_SIGMAS: f32 = {NOISE_OFFSET_SIGMAS:?};\n\
          {}",
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),

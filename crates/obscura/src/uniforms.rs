@@ -57,6 +57,9 @@ crate::gpu_struct! {
         pub history: u32,
         /// Most frames the history averages ([`crate::AoOptions::history`]).
         pub history_max: f32,
+        /// Depth noise σ(d) = noise.x + noise.y · d + noise.z · d², clamped at 0
+        /// ([`crate::AoParams::depth_noise`]); w unused (keeps `patterns` 16-byte aligned).
+        pub noise: [f32; 4],
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
@@ -123,6 +126,12 @@ impl FrameUniforms {
             prev_ndc_to_view: scale,
             history: 0,
             history_max: options.history.max(1) as f32,
+            noise: [
+                params.depth_noise.constant,
+                params.depth_noise.linear,
+                params.depth_noise.quadratic,
+                0.0,
+            ],
             patterns: if options.jitter {
                 pattern_table(crate::jitter::rotation_sector(
                     options.estimator,
@@ -202,6 +211,17 @@ impl FrameUniforms {
     /// shaders/common.wgsl.
     pub fn step_px(&self, d: f32, steps: u32) -> f32 {
         self.radius_px(d) / (steps + 1) as f32
+    }
+
+    /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in shaders/common.wgsl.
+    pub fn depth_sigma(&self, d: f32) -> f32 {
+        (self.noise[0] + (self.noise[1] + self.noise[2] * d) * d).max(0.0)
+    }
+
+    /// Where the estimators measure occluders from; mirrors `estimator_origin` in
+    /// shaders/common.wgsl.
+    pub fn estimator_origin(&self, p: [f32; 2], d: f32, n: glam::Vec3) -> glam::Vec3 {
+        self.view_position(p, d) + n * (crate::shader::NOISE_OFFSET_SIGMAS * self.depth_sigma(d))
     }
 
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
@@ -313,6 +333,11 @@ mod tests {
                 bias_angle_deg: f(10.0),
                 strength: f(1.0),
                 max_radius_px: f(256.0),
+                depth_noise: crate::DepthNoise {
+                    constant: f(0.0),
+                    linear: f(0.0),
+                    quadratic: f(0.0),
+                },
                 motion: match pick(3) {
                     0 => crate::CameraMotion::Still,
                     1 => crate::CameraMotion::Cut,
