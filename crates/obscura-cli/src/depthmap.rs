@@ -389,30 +389,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
 
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
-    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth map"),
-        size: wgpu::Extent3d {
-            width: pw,
-            height: ph,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    ctx.queue.write_texture(
-        tex.as_image_copy(),
-        &bytemuck_bytes(&padded),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * pw),
-            rows_per_image: Some(ph),
-        },
-        tex.size(),
-    );
+    let tex = ctx.upload_r32("depth map", &padded, pw, ph);
     let view = tex.create_view(&Default::default());
     let options = crate::render::options(a);
     let params = obscura::AoParams {
@@ -475,10 +452,6 @@ fn percentile_bounds(points: &[glam::Vec3], lo: f32, hi: f32) -> (glam::Vec3, gl
         b[k] = *axis[i..].select_nth_unstable_by(j - i, f32::total_cmp).1;
     }
     (glam::Vec3::from(a), glam::Vec3::from(b))
-}
-
-fn bytemuck_bytes(v: &[f32]) -> Vec<u8> {
-    v.iter().flat_map(|f| f.to_le_bytes()).collect()
 }
 
 #[cfg(test)]

@@ -246,33 +246,7 @@ fn sensor_depth(
         sensor::NEAR_M,
         sensor::FAR_M
     );
-    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("sensor depth"),
-        size: wgpu::Extent3d {
-            width: g.width,
-            height: g.height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    ctx.queue.write_texture(
-        tex.as_image_copy(),
-        &noisy
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect::<Vec<u8>>(),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * g.width),
-            rows_per_image: Some(g.height),
-        },
-        tex.size(),
-    );
+    let tex = ctx.upload_r32("sensor depth", &noisy, g.width, g.height);
     let view = tex.create_view(&Default::default());
     let (constant, linear, quadratic) = map.sigma_in_depth(s.sigma_m(focal_px));
     let noise = obscura::DepthNoise {

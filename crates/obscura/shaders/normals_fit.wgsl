@@ -95,9 +95,6 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
     }
     let f0 = fc + plane.x;
     let dfit = select(f0, 1.0 / f0, persp);
-    if plane.w == 0.0 || !(dfit > 0.0) || is_nonfinite(dfit) {
-        return vec4<f32>(d, view_normal(p, view_position(vec2<f32>(p) + 0.5, d), d));
-    }
     // d(view xy at depth 1)/d(pixel): ndc spans 2 over the size, y flips.
     let k = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view;
     let g = plane.yz / (f32(stride) * k);
@@ -109,12 +106,9 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
         n = vec3<f32>(g, dot(g, ray.xy) - f0);
     }
     let len2 = dot(n, n);
-    if !(len2 > 0.0) || is_nonfinite(len2) {
-        return vec4<f32>(d, view_normal(p, view_position(vec2<f32>(p) + 0.5, d), d));
+    if plane.w != 0.0 && dfit > 0.0 && !is_nonfinite(dfit) && len2 > 0.0 && !is_nonfinite(len2) {
+        n = n * inverseSqrt(len2);
+        return vec4<f32>(dfit, select(n, -n, persp && dot(n, ray) > 0.0));
     }
-    n = n * inverseSqrt(len2);
-    if persp && dot(n, ray) > 0.0 {
-        n = -n;
-    }
-    return vec4<f32>(dfit, n);
+    return vec4<f32>(d, view_normal(p, view_position(vec2<f32>(p) + 0.5, d), d));
 }

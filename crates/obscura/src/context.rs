@@ -340,6 +340,36 @@ impl GpuContext {
         Ok(data)
     }
 
+    /// An `R32Float` texture holding `data` (row-major, `width` × `height`), readable by
+    /// shaders (`TEXTURE_BINDING`): linear depth from the CPU, for [`crate::AoInput`].
+    pub fn upload_r32(&self, label: &str, data: &[f32], width: u32, height: u32) -> wgpu::Texture {
+        let tex = self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        self.queue.write_texture(
+            tex.as_image_copy(),
+            bytemuck::cast_slice(data),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * width),
+                rows_per_image: Some(height),
+            },
+            tex.size(),
+        );
+        tex
+    }
+
     /// Reads an `R32Float`/`Depth32Float` texture as `f32`s, or `Rgba32Float` as 4 per texel.
     pub fn read_f32(&self, texture: &wgpu::Texture) -> Result<Vec<f32>> {
         Ok(bytemuck::pod_collect_to_vec(&self.read_texture(texture)?))

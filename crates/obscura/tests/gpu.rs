@@ -176,6 +176,19 @@ fn ray_cast(
 }
 
 /// A floor, a back wall and two spheres: creases, contact, silhouettes, sky.
+/// The perspective and orthographic cameras the prepare tests look at the test scene with.
+fn test_projections() -> [Projection; 2] {
+    [
+        persp(W, H),
+        Projection::Orthographic {
+            half_width: 3.0 * W as f32 / H as f32,
+            half_height: 3.0,
+            near: 0.1,
+            far: 20.0,
+        },
+    ]
+}
+
 fn test_scene(projection: &Projection, w: u32, h: u32) -> Vec<f32> {
     ray_cast(
         projection,
@@ -214,15 +227,7 @@ fn encode(projection: &Projection, conv: DepthConvention, lin: &[f32]) -> Vec<f3
 #[test]
 fn prepare_matches_cpu_reference_for_every_convention() {
     let _g = lock();
-    for projection in [
-        persp(W, H),
-        Projection::Orthographic {
-            half_width: 3.0 * W as f32 / H as f32,
-            half_height: 3.0,
-            near: 0.1,
-            far: 20.0,
-        },
-    ] {
+    for projection in test_projections() {
         let lin = test_scene(&projection, W, H);
         assert!(lin.contains(&0.0), "the scene must include sky");
         for conv in [
@@ -2392,15 +2397,7 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
         linear: 0.0,
         quadratic: 0.004,
     };
-    for projection in [
-        persp(W, H),
-        Projection::Orthographic {
-            half_width: 3.0 * W as f32 / H as f32,
-            half_height: 3.0,
-            near: 0.1,
-            far: 20.0,
-        },
-    ] {
+    for projection in test_projections() {
         let clean = test_scene(&projection, W, H);
         let g = gaussian_noise(clean.len(), 11);
         let raw: Vec<f32> = clean

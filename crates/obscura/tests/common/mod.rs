@@ -10,31 +10,7 @@ pub fn context(limits: Option<wgpu::Limits>) -> GpuContext {
 
 /// An `R32Float` texture holding `data` (row-major, `w` × `h`), readable by shaders.
 pub fn upload_r32(c: &GpuContext, data: &[f32], w: u32, h: u32) -> wgpu::Texture {
-    let tex = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("test depth"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    c.queue.write_texture(
-        tex.as_image_copy(),
-        bytemuck::cast_slice(data),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 4),
-            rows_per_image: Some(h),
-        },
-        tex.size(),
-    );
-    tex
+    c.upload_r32("test depth", data, w, h)
 }
 
 /// Linear view depth in `view`, normals reconstructed, the whole texture, library output.
