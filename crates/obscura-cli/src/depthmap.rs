@@ -118,16 +118,22 @@ pub struct DepthMap {
 /// Decoded values before scaling: width, height, row-major values, stored as integers.
 type Decoded = (u32, u32, Vec<f32>, bool);
 
-/// Loads a depth map by extension (.png 16-bit, .exr, .npy); integer data is multiplied by
-/// `scale`, float data is taken as scene units.
-pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
+/// A file's lower-case extension and its bytes (`what` names it in the error).
+fn read_file(path: &Path, what: &str) -> Result<(String, Vec<u8>)> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
     let bytes =
-        std::fs::read(path).with_context(|| format!("cannot read depth `{}`", path.display()))?;
+        std::fs::read(path).with_context(|| format!("cannot read {what} `{}`", path.display()))?;
+    Ok((ext, bytes))
+}
+
+/// Loads a depth map by extension (.png 16-bit, .exr, .npy); integer data is multiplied by
+/// `scale`, float data is taken as scene units.
+pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
+    let (ext, bytes) = read_file(path, "depth")?;
     let (width, height, raw, integer) = match ext.as_str() {
         "png" | "exr" => decode_image(&bytes, &ext)?,
         "npy" => decode_npy(&bytes)?,
@@ -192,9 +198,29 @@ fn decode_image(bytes: &[u8], ext: &str) -> Result<Decoded> {
     Ok((w, h, values, integer))
 }
 
-/// A `.npy` array (version 1–3 header): 2-D, C or Fortran order, little-endian float64,
-/// float32, float16 or uint16.
+/// A `.npy` array read as `f32`s in C order.
+struct Npy {
+    dims: Vec<usize>,
+    values: Vec<f32>,
+    integer: bool,
+}
+
+/// A 2-D `.npy` depth map (see [`read_npy`]).
 fn decode_npy(bytes: &[u8]) -> Result<Decoded> {
+    let a = read_npy(bytes)?;
+    let [h, w] = a.dims[..] else {
+        bail!(
+            ".npy array has shape {:?}; a depth map is 2-D (height, width)",
+            a.dims
+        );
+    };
+    Ok((w as u32, h as u32, a.values, a.integer))
+}
+
+/// A `.npy` array (version 1–3 header): any dimensions, each in 1..=MAX_SIDE except a last
+/// of 3 or 4 channels, C or Fortran order, little-endian float64, float32, float16 or
+/// uint16.
+fn read_npy(bytes: &[u8]) -> Result<Npy> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
         bail!("not a .npy file (bad magic)");
     }
@@ -239,33 +265,54 @@ fn decode_npy(bytes: &[u8]) -> Result<Decoded> {
         .strip_prefix('(')
         .and_then(|s| s.split(')').next())
         .context(".npy shape is malformed")?;
-    let dims: Vec<u64> = inner
+    let dims: Vec<usize> = inner
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(|s| s.parse::<u64>())
+        .map(|s| s.parse::<usize>())
         .collect::<Result<_, _>>()
         .context(".npy shape is malformed")?;
-    let [h, w] = dims[..] else {
-        bail!(".npy array has shape {dims:?}; a depth map is 2-D (height, width)");
-    };
-    if w == 0 || h == 0 || w > MAX_SIDE as u64 || h > MAX_SIDE as u64 {
-        bail!("depth map is {w}x{h}; each side must be in 1..={MAX_SIDE}");
+    if dims.is_empty()
+        || dims.len() > 3
+        || dims[..2.min(dims.len())]
+            .iter()
+            .any(|&d| d == 0 || d > MAX_SIDE as usize)
+    {
+        bail!(".npy array has shape {dims:?}; each image side must be in 1..={MAX_SIDE}");
     }
+    let count: usize = dims.iter().product();
     let data = &bytes[start + header_len..];
-    let need = (w * h) as usize * bytes_per;
+    let need = count * bytes_per;
     if data.len() < need {
         bail!(".npy data is truncated ({} of {need} bytes)", data.len());
     }
     let stored: Vec<f32> = data[..need].chunks_exact(bytes_per).map(convert).collect();
-    // Fortran order stores column after column: element (y, x) at x * h + y.
+    // Fortran order stores the first index fastest: element (i0, i1, …) at
+    // i0 + d0 · (i1 + d1 · …).
     let values = if fortran {
-        let (w, h) = (w as usize, h as usize);
-        (0..w * h).map(|i| stored[(i % w) * h + i / w]).collect()
+        (0..count)
+            .map(|c| {
+                let (mut rest, mut at, mut stride) = (c, 0, 1);
+                let mut index = vec![0; dims.len()];
+                for (k, &d) in dims.iter().enumerate().rev() {
+                    index[k] = rest % d;
+                    rest /= d;
+                }
+                for (k, &d) in dims.iter().enumerate() {
+                    at += index[k] * stride;
+                    stride *= d;
+                }
+                stored[at]
+            })
+            .collect()
     } else {
         stored
     };
-    Ok((w as u32, h as u32, values, integer))
+    Ok(Npy {
+        dims,
+        values,
+        integer,
+    })
 }
 
 /// IEEE half → f32 (subnormals, inf and NaN included).
@@ -282,16 +329,38 @@ fn half_to_f32(h: u16) -> f32 {
 }
 
 /// The depth noise model `--depth-noise` names for `map` (see its help), and a description
-/// for stderr.
-fn noise_model(arg: &str, map: &DepthMap, scale: f32) -> Result<(obscura::DepthNoise, String)> {
+/// for stderr. `estimate` runs the estimate (`auto`) on the padded linear depth.
+fn noise_model(
+    arg: &str,
+    map: &DepthMap,
+    scale: f32,
+    estimate: impl FnOnce() -> obscura::Result<obscura::NoiseEstimate>,
+) -> Result<(obscura::DepthNoise, String)> {
     use obscura::DepthNoise;
     let quantisation = || DepthNoise {
         constant: scale / 12f32.sqrt(),
         ..DepthNoise::NONE
     };
     let model = match arg.trim() {
-        "auto" if map.integer => quantisation(),
-        "auto" | "none" => DepthNoise::NONE,
+        "auto" => {
+            let e = estimate()?;
+            let model = e.model;
+            let found = if model.is_none() {
+                format!(
+                    "none (estimated: σ at most {:.3} pixel footprints)",
+                    e.sigma_px
+                )
+            } else {
+                format!(
+                    "{} (estimated from {} depth bins; σ up to {:.2} pixel footprints)",
+                    describe_noise(&model),
+                    e.bins.len(),
+                    e.sigma_px
+                )
+            };
+            return Ok((model, found));
+        }
+        "none" => DepthNoise::NONE,
         "kinect" => DepthNoise {
             quadratic: 0.0015,
             ..if map.integer {
@@ -317,15 +386,76 @@ fn noise_model(arg: &str, map: &DepthMap, scale: f32) -> Result<(obscura::DepthN
             }
         }
     };
-    let text = if model.is_none() {
+    Ok((model, format!("{} ({arg})", describe_noise(&model))))
+}
+
+/// A noise model as stderr states it.
+pub fn describe_noise(model: &obscura::DepthNoise) -> String {
+    if model.is_none() {
         "none (clean depth)".to_string()
     } else {
         format!(
-            "σ = {:.3e} + {:.3e}·z + {:.3e}·z² ({})",
-            model.constant, model.linear, model.quadratic, arg
+            "σ = {:.3e} + {:.3e}·z + {:.3e}·z²",
+            model.constant, model.linear, model.quadratic
         )
+    }
+}
+
+/// `--normals-file`: a (height, width, 3 or 4) float `.npy` or an RGB(A) float EXR of
+/// view-space normals in `frame`, `width` × `height`; returned in obscura's view space as
+/// RGBA rows (zero where a normal is missing or not finite), with the fraction of the
+/// given normals that face away from the camera (a sign that `frame` is wrong).
+pub fn load_normals(
+    path: &Path,
+    width: u32,
+    height: u32,
+    frame: crate::render::NormalsFrame,
+) -> Result<(Vec<[f32; 4]>, f32)> {
+    let (ext, bytes) = read_file(path, "normals")?;
+    let (w, h, channels, values) = match ext.as_str() {
+        "npy" => {
+            let a = read_npy(&bytes)?;
+            let [h, w, c @ (3 | 4)] = a.dims[..] else {
+                bail!(
+                    ".npy array has shape {:?}; normals are (height, width, 3) or (height, \
+                     width, 4)",
+                    a.dims
+                );
+            };
+            if a.integer {
+                bail!("normals must be float (float16/32/64), not uint16");
+            }
+            (w as u32, h as u32, c, a.values)
+        }
+        "exr" => {
+            let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::OpenExr)
+                .context("cannot decode the normals EXR")?;
+            let (w, h) = (img.width(), img.height());
+            (w, h, 4, img.into_rgba32f().into_raw())
+        }
+        _ => bail!("unsupported format (expected a float .npy or .exr)"),
     };
-    Ok((model, text))
+    if (w, h) != (width, height) {
+        bail!("the normals are {w}x{h} but the depth map is {width}x{height}");
+    }
+    let flip = match frame {
+        crate::render::NormalsFrame::Opencv => -1.0,
+        crate::render::NormalsFrame::Opengl => 1.0,
+    };
+    let (mut given, mut away) = (0usize, 0usize);
+    let normals = values
+        .chunks_exact(channels)
+        .map(|c| {
+            let n = [c[0], flip * c[1], flip * c[2]];
+            if !n.iter().all(|v| v.is_finite()) || n == [0.0; 3] {
+                return [0.0; 4];
+            }
+            given += 1;
+            away += usize::from(n[2] < 0.0);
+            [n[0], n[1], n[2], 0.0]
+        })
+        .collect();
+    Ok((normals, away as f32 / given.max(1) as f32))
 }
 
 /// `obscura render --depth FILE --intrinsics JSON`.
@@ -354,7 +484,6 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
             k.depth_scale
         );
     }
-    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &map, k.depth_scale)?;
     let points = back_project(&map, &k);
     if points.is_empty() {
         bail!("the depth map has no valid depth (every value is 0, NaN or infinite)");
@@ -376,6 +505,10 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         let start = ((y + pad[1]) * pw + pad[0]) as usize;
         padded[start..start + map.width as usize].copy_from_slice(src);
     }
+    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &map, k.depth_scale, || {
+        let quantum = map.integer.then_some(k.depth_scale);
+        obscura::DepthNoise::estimate(&padded, pw, ph, &projection, quantum)
+    })?;
     eprintln!(
         "depth: {}x{} ({:.0}% valid), depth {:.3}..{:.3}, padded to {pw}x{ph} to centre the \
          principal point; loaded in {:.0} ms",
@@ -387,9 +520,39 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         t0.elapsed().as_secs_f64() * 1e3
     );
 
+    let normals = match &a.normals_file {
+        Some(path) => {
+            let (n, away) = load_normals(path, map.width, map.height, a.normals_frame)
+                .with_context(|| format!("normals `{}`", path.display()))?;
+            eprintln!(
+                "normals: {} ({:?} axes){}",
+                path.display(),
+                a.normals_frame,
+                if away > 0.5 {
+                    format!(
+                        "; warning: {:.0}% face away from the camera: are the axes the other \
+                         --normals-frame?",
+                        100.0 * away
+                    )
+                } else {
+                    String::new()
+                }
+            );
+            let mut padded = vec![[0.0f32; 4]; (pw * ph) as usize];
+            for y in 0..map.height {
+                let src = &n[(y * map.width) as usize..((y + 1) * map.width) as usize];
+                let start = ((y + pad[1]) * pw + pad[0]) as usize;
+                padded[start..start + map.width as usize].copy_from_slice(src);
+            }
+            Some(padded)
+        }
+        None => None,
+    };
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
     let tex = ctx.upload_r32("depth map", &padded, pw, ph);
+    let normal_tex = normals.map(|n| ctx.upload_rgba32("normal map", &n, pw, ph));
+    let normal_view = normal_tex.map(|t| t.create_view(&Default::default()));
     let view = tex.create_view(&Default::default());
     let options = crate::render::options(a);
     let params = obscura::AoParams {
@@ -401,7 +564,9 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         depth: &view,
         convention: DepthConvention::LinearView,
         projection,
-        normals: None,
+        normals: normal_view
+            .as_ref()
+            .map(|v| (v, obscura::NormalEncoding::ViewSigned)),
         viewport: None,
         output: None,
     };
@@ -418,7 +583,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
             out[row..row + map.width as usize].to_vec()
         })
         .collect();
-    crate::output::save_ao(&a.out, &cropped, map.width, map.height)?;
+    crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())

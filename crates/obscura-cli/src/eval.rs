@@ -145,8 +145,10 @@ pub struct EvalArgs {
     /// from it; the truth is the clean scene's.
     #[arg(long, value_enum, default_value_t = SensorArg::None)]
     pub sensor: SensorArg,
-    /// With --sensor: the depth noise model obscura is given.
-    #[arg(long, value_enum, default_value_t = NoiseArg::Known)]
+    /// The depth noise model obscura is given: `auto` estimates it from --sensor depth (as
+    /// `render --depth` does by default) and gives none for rendered depth (as a renderer
+    /// passing its own depth buffer does); `estimate` estimates it from either.
+    #[arg(long, value_enum, default_value_t = NoiseArg::Auto)]
     pub depth_noise: NoiseArg,
     /// Degrees the orbit turns per frame (with --frames > 1).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
@@ -165,9 +167,13 @@ pub enum SensorArg {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NoiseArg {
+    /// Estimated from --sensor depth; none for rendered depth.
+    Auto,
+    /// Estimated from the depth (obscura::DepthNoise::estimate).
+    Estimate,
     /// None: obscura treats the depth as clean.
     None,
-    /// The simulated sensor's own σ(z).
+    /// The simulated sensor's own σ(z) (with --sensor).
     Known,
 }
 
@@ -220,19 +226,34 @@ enum SampleChoice {
     Preset(PresetArg),
 }
 
-/// Sensor-like linear depth from a G-buffer's depth (obscura_eval::sensor), as a texture.
+/// A G-buffer's depth as linear view depth (0 for the sky).
+fn linear_depth(
+    ctx: &GpuContext,
+    g: &obscura_scene::GBuffer,
+    input: &obscura::AoInput<'_>,
+) -> Result<Vec<f32>> {
+    let lin = input.projection.linearize(input.convention)?;
+    Ok(ctx
+        .read_f32(&g.depth)?
+        .into_iter()
+        .map(|z| lin.apply(z).unwrap_or(0.0))
+        .collect())
+}
+
+/// Sensor-like linear depth from a G-buffer's depth (obscura_eval::sensor): the depth,
+/// as a texture, and the sensor's σ(z).
 fn sensor_depth(
     ctx: &GpuContext,
     g: &obscura_scene::GBuffer,
     input: &obscura::AoInput<'_>,
     s: sensor::Sensor,
-) -> Result<(wgpu::Texture, wgpu::TextureView, obscura::DepthNoise)> {
-    let lin = input.projection.linearize(input.convention)?;
-    let clean: Vec<f32> = ctx
-        .read_f32(&g.depth)?
-        .into_iter()
-        .map(|z| lin.apply(z).unwrap_or(0.0))
-        .collect();
+) -> Result<(
+    Vec<f32>,
+    wgpu::Texture,
+    wgpu::TextureView,
+    obscura::DepthNoise,
+)> {
+    let clean = linear_depth(ctx, g, input)?;
     let focal_px = match input.projection {
         obscura::Projection::Perspective { fov_y, .. } => {
             0.5 * g.height as f32 / (0.5 * fov_y).tan()
@@ -254,7 +275,7 @@ fn sensor_depth(
         linear,
         quadratic,
     };
-    Ok((tex, view, noise))
+    Ok((noisy, tex, view, noise))
 }
 
 /// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
@@ -579,13 +600,33 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             radius,
             ..Default::default()
         };
-        if let Some((_, view, noise)) = &noisy {
+        if let Some((_, _, view, noise)) = &noisy {
             input.depth = view;
             input.convention = obscura::DepthConvention::LinearView;
             input.normals = None;
             if a.depth_noise == NoiseArg::Known {
                 params.depth_noise = *noise;
             }
+        }
+        if a.depth_noise == NoiseArg::Estimate
+            || (a.depth_noise == NoiseArg::Auto && noisy.is_some())
+        {
+            let depth = match &noisy {
+                Some((d, ..)) => std::borrow::Cow::Borrowed(d),
+                None => std::borrow::Cow::Owned(linear_depth(&ctx, &g, &input)?),
+            };
+            let e = obscura::DepthNoise::estimate(&depth, w, h, &input.projection, None)?;
+            params.depth_noise = e.model;
+            eprintln!(
+                "  depth noise: estimated {} (σ up to {:.3} px){}",
+                crate::depthmap::describe_noise(&e.model),
+                e.sigma_px,
+                match &noisy {
+                    Some((.., known)) =>
+                        format!("; the sensor's {}", crate::depthmap::describe_noise(known)),
+                    None => String::new(),
+                }
+            );
         }
         let mut times = vec![Vec::new(); aos.len()];
         for round in 0..=a.runs {

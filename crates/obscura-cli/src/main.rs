@@ -39,7 +39,14 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(&args),
+        // A depth map and a scene are two sources of the same AO input: depthmap.rs and
+        // render.rs share render.rs's arguments and timing.
+        Command::Render(args) => {
+            render::check_args(&args).and_then(|()| match (&args.depth, &args.intrinsics) {
+                (Some(depth), Some(intrinsics)) => depthmap::run(&args, depth, intrinsics),
+                _ => render::run(&args),
+            })
+        }
         Command::Bench(args) => bench::run(&args),
         Command::Eval(args) => eval::run(&args),
     };

@@ -29,37 +29,64 @@ fn check_folder(path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Checks up front that `path` can take an AO image: `.png` (8-bit grey) or `.npy` (float32,
-/// 1 = unoccluded, for anyone who computes with the AO), in an existing folder.
+/// Checks up front that `path` can take an AO image: `.png` (8- or 16-bit grey), `.npy`
+/// (float32) or `.exr` (float32), in an existing folder.
 pub fn check_ao_path(path: &Path) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if ext.eq_ignore_ascii_case("npy") {
-        return check_folder(path);
-    }
-    if !ext.eq_ignore_ascii_case("png") {
+    if !["png", "npy", "exr"]
+        .iter()
+        .any(|e| ext.eq_ignore_ascii_case(e))
+    {
         bail!(
-            "output `{}` must end in .png (8-bit) or .npy (float32)",
+            "output `{}` must end in .png (8- or 16-bit grey, --bits), .npy or .exr (float32)",
             path.display()
         );
     }
-    check_png_path(path)
+    check_folder(path)
 }
 
-/// Writes AO values (`width` × `height`, row-major) to `path` atomically: `.npy` as float32
-/// (2-D, C order), anything else as an 8-bit grey PNG.
-pub fn save_ao(path: &Path, ao: &[f32], width: u32, height: u32) -> Result<()> {
-    let npy = path
+/// Writes AO values (`width` × `height`, row-major, 1 = unoccluded) to `path` atomically,
+/// by extension: `.npy` as float32 (2-D, C order), `.exr` as float32 (grey in R, G and B,
+/// the layout every EXR reader takes), anything else as a grey PNG of `bits` 8 or 16 per
+/// sample.
+pub fn save_ao(path: &Path, ao: &[f32], width: u32, height: u32, bits: u8) -> Result<()> {
+    let ext = path
         .extension()
         .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
-    if !npy {
-        let px: Vec<u8> = ao
-            .iter()
-            .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-            .collect();
-        return save_png(path, &px, width, height, image::ExtendedColorType::L8);
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "npy" => write_bytes(path, &npy_f32(ao, width, height)),
+        "exr" => {
+            let rgb: Vec<u8> = ao
+                .iter()
+                .flat_map(|&v| [v; 3])
+                .flat_map(f32::to_ne_bytes)
+                .collect();
+            save_image(
+                path,
+                &rgb,
+                width,
+                height,
+                image::ExtendedColorType::Rgb32F,
+                image::ImageFormat::OpenExr,
+            )
+        }
+        _ if bits == 16 => {
+            let px: Vec<u8> = ao
+                .iter()
+                .flat_map(|v| ((v.clamp(0.0, 1.0) * 65535.0).round() as u16).to_ne_bytes())
+                .collect();
+            save_png(path, &px, width, height, image::ExtendedColorType::L16)
+        }
+        _ => {
+            let px: Vec<u8> = ao
+                .iter()
+                .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+                .collect();
+            save_png(path, &px, width, height, image::ExtendedColorType::L8)
+        }
     }
-    write_bytes(path, &npy_f32(ao, width, height))
 }
 
 /// A version-1 `.npy` file holding `values` as a little-endian float32 array of shape
@@ -108,11 +135,22 @@ pub fn save_png(
     height: u32,
     color: image::ExtendedColorType,
 ) -> Result<()> {
+    save_image(path, pixels, width, height, color, image::ImageFormat::Png)
+}
+
+/// Encodes raw pixels as `format` into `path` atomically.
+fn save_image(
+    path: &Path,
+    pixels: &[u8],
+    width: u32,
+    height: u32,
+    color: image::ExtendedColorType,
+    format: image::ImageFormat,
+) -> Result<()> {
     let tmp = temp_path(path);
-    let result =
-        image::save_buffer_with_format(&tmp, pixels, width, height, color, image::ImageFormat::Png)
-            .map_err(anyhow::Error::from)
-            .and_then(|()| std::fs::rename(&tmp, path).map_err(anyhow::Error::from));
+    let result = image::save_buffer_with_format(&tmp, pixels, width, height, color, format)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(anyhow::Error::from));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }

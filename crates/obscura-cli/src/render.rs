@@ -191,6 +191,17 @@ impl ResolutionArgs {
     }
 }
 
+/// The axes of a normal map given with a depth map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalsFrame {
+    /// The depth-camera convention of the intrinsics (OpenCV, Open3D, NYU, ScanNet, TUM):
+    /// x right, y down, z into the scene; a surface facing the camera has z < 0.
+    Opencv,
+    /// obscura's view space (OpenGL): x right, y up, z towards the viewer; a surface facing
+    /// the camera has z > 0.
+    Opengl,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NormalSource {
     /// Use the G-buffer's geometric normals (what an engine would pass in).
@@ -279,9 +290,10 @@ pub struct RenderArgs {
     )]
     pub depth: Option<PathBuf>,
     /// The depth map's noise σ(z), which obscura fits planes over and does not read as
-    /// occlusion: `auto` (integer maps: the quantisation, step / √12; float maps: none),
-    /// `none`, `kinect` (structured light, 1.5 mm · z² with z in metres: use with depth in
-    /// metres), or `C,L,Q` for σ = C + L·z + Q·z² in scene units.
+    /// occlusion: `auto` (estimated from the map's local plane-fit residuals, none when they
+    /// are below 0.02 pixel footprints; integer maps at least their quantisation, step /
+    /// √12), `none`, `kinect` (structured light, 1.5 mm · z² with z in metres: use with
+    /// depth in metres), or `C,L,Q` for σ = C + L·z + Q·z² in scene units.
     #[arg(
         long,
         value_name = "MODEL",
@@ -290,6 +302,14 @@ pub struct RenderArgs {
         allow_hyphen_values = true
     )]
     pub depth_noise: String,
+    /// Normals for --depth instead of reconstructing them: unit view-space normals as a
+    /// (height, width, 3 or 4) float .npy or an RGB(A) float EXR, in --normals-frame.
+    /// Zero or non-finite normals are missing (view-space +z is used there).
+    #[arg(long, value_name = "FILE", requires = "depth")]
+    pub normals_file: Option<PathBuf>,
+    /// The axes of --normals-file.
+    #[arg(long, value_enum, default_value_t = NormalsFrame::Opencv, requires = "normals_file")]
+    pub normals_frame: NormalsFrame,
     /// Pinhole intrinsics of --depth as JSON: fx, fy, cx, cy (pixels, OpenCV convention),
     /// width, height, and optionally depth_scale (scene units per stored unit; 0.001).
     #[arg(long, value_name = "JSON", requires = "depth")]
@@ -298,6 +318,10 @@ pub struct RenderArgs {
     /// unoccluded.
     #[arg(long, default_value = "ao.png")]
     pub out: PathBuf,
+    /// Bits per sample of a PNG --out: 8, or 16 for anyone who computes with the AO (.npy
+    /// and .exr are float32).
+    #[arg(long, default_value_t = 8, value_parser = parse_bits)]
+    pub bits: u8,
     /// Also write a linear-depth visualization PNG (near = bright, sky = black).
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
@@ -328,6 +352,14 @@ pub struct RenderArgs {
     pub out_dir: Option<PathBuf>,
 }
 
+fn parse_bits(s: &str) -> Result<u8, String> {
+    match s.trim() {
+        "8" => Ok(8),
+        "16" => Ok(16),
+        _ => Err(format!("expected 8 or 16, got `{s}`")),
+    }
+}
+
 /// Parses comma-separated finite numbers, naming the option `what` in errors.
 pub fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
     let v: Vec<f32> = s
@@ -342,7 +374,7 @@ pub fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
 }
 
 /// Validates every argument that needs no file or GPU.
-fn check_args(a: &RenderArgs) -> Result<()> {
+pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 {
         bail!(
             "--width and --height must be at least 1 (got {}x{})",
@@ -512,11 +544,9 @@ fn median_ms(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// `obscura render` of a scene (the built-in one without --scene); arguments checked by
+/// [`check_args`].
 pub fn run(a: &RenderArgs) -> Result<()> {
-    check_args(a)?;
-    if let (Some(depth), Some(intrinsics)) = (&a.depth, &a.intrinsics) {
-        return crate::depthmap::run(a, depth, intrinsics);
-    }
     let t0 = Instant::now();
     let (mesh, name) = match &a.scene {
         Some(p) => (
@@ -576,7 +606,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         );
     }
     let values = record_timed(a, &ctx, &mut ao, &input, &params)?;
-    save_ao(&a.out, &values, a.width, a.height)?;
+    save_ao(&a.out, &values, a.width, a.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
 
     if a.depth_out.is_some() || a.normals_out.is_some() {
@@ -657,7 +687,7 @@ fn orbit(
         times.push(t.elapsed().as_secs_f64() * 1e3);
         let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
         let path = dir.join(format!("frame_{k:04}.png"));
-        save_ao(&path, &values, a.width, a.height)?;
+        save_ao(&path, &values, a.width, a.height, a.bits)?;
         previous = Some(c);
         progress(k + 1, n, &path);
     }

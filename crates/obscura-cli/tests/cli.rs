@@ -407,6 +407,146 @@ fn float_depth_with_outliers_renders_without_rescaling() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// A `.npy` of `values` with `shape` (little-endian float32, C order).
+fn npy_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let header = format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({},), }}\n",
+        dims.join(", ")
+    );
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    npy.extend((header.len() as u16).to_le_bytes());
+    npy.extend(header.as_bytes());
+    npy.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+    npy
+}
+
+/// The depth-map outputs and given normals: one AO written as float `.npy`, float `.exr`
+/// and 16-bit PNG holds the same values (EXR exactly, 16-bit within half a step); normals
+/// handed in with `--normals-file` are used (a wall whose normals face the camera reads
+/// open, and the same file read with the other axes warns that they face away); a normal
+/// map of the wrong size fails cleanly.
+#[test]
+fn depth_map_writes_float_and_16_bit_ao_and_takes_normals() {
+    let d = scratch("outputs");
+    let (w, h) = (64usize, 48usize);
+    // A wall 2 units away with a 5 cm step towards the camera on its right half.
+    let depth: Vec<f32> = (0..w * h)
+        .map(|i| if i % w >= 32 { 1.95 } else { 2.0 })
+        .collect();
+    let (dpath, kpath) = (d.join("d.npy"), d.join("k.json"));
+    std::fs::write(&dpath, npy_f32(&[h, w], &depth)).unwrap();
+    std::fs::write(
+        &kpath,
+        r#"{"fx": 60, "fy": 60, "cx": 31.5, "cy": 23.5, "width": 64, "height": 48}"#,
+    )
+    .unwrap();
+    let render = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--depth",
+            s(&dpath),
+            "--intrinsics",
+            s(&kpath),
+            "--runs",
+            "1",
+            "--radius",
+            "0.3",
+            "--out",
+            s(out),
+        ];
+        args.extend_from_slice(extra);
+        let out = obscura(&args);
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{err}");
+        err
+    };
+    let (npy, exr, png) = (d.join("ao.npy"), d.join("ao.exr"), d.join("ao.png"));
+    render(&npy, &[]);
+    render(&exr, &[]);
+    render(&png, &["--bits", "16"]);
+    let v = read_npy_f32(&npy, h, w);
+    assert!(v.iter().any(|&a| a < 0.9), "the step is occluded");
+    let e = image::open(&exr).unwrap().to_rgb32f();
+    assert_eq!(e.dimensions(), (w as u32, h as u32));
+    for (a, p) in v.iter().zip(e.pixels()) {
+        assert!(
+            (a - p[0]).abs() < 1e-6 && p[0] == p[1] && p[1] == p[2],
+            "{a} vs {p:?}"
+        );
+    }
+    let img = image::open(&png).unwrap();
+    assert!(
+        matches!(img, image::DynamicImage::ImageLuma16(_)),
+        "{:?}",
+        img.color()
+    );
+    for (a, p) in v.iter().zip(img.to_luma16().pixels()) {
+        assert!(
+            (a.clamp(0.0, 1.0) * 65535.0 - p[0] as f32).abs() <= 0.5 + 1e-3,
+            "{a} vs {}",
+            p[0]
+        );
+    }
+
+    // Normals facing the camera in OpenCV axes (z into the scene): (0, 0, −1).
+    let npath = d.join("n.npy");
+    let normals: Vec<f32> = (0..w * h).flat_map(|_| [0.0, 0.0, -1.0]).collect();
+    std::fs::write(&npath, npy_f32(&[h, w, 3], &normals)).unwrap();
+    let given = d.join("given.npy");
+    let err = render(&given, &["--normals-file", s(&npath)]);
+    assert!(
+        err.contains("normals:") && !err.contains("face away"),
+        "{err}"
+    );
+    let g = read_npy_f32(&given, h, w);
+    let open = g[24 * w + 10];
+    assert!(open > 0.97, "open wall with given normals: {open}");
+    let err = render(
+        &given,
+        &["--normals-file", s(&npath), "--normals-frame", "opengl"],
+    );
+    assert!(err.contains("face away"), "{err}");
+    let small = d.join("small.npy");
+    std::fs::write(
+        &small,
+        npy_f32(&[h / 2, w, 3], &normals[..normals.len() / 2]),
+    )
+    .unwrap();
+    let (dp, kp, sp) = (
+        s(&dpath).to_string(),
+        s(&kpath).to_string(),
+        s(&small).to_string(),
+    );
+    assert_fails(
+        "normals-size",
+        &[
+            "render",
+            "--depth",
+            &dp,
+            "--intrinsics",
+            &kp,
+            "--normals-file",
+            &sp,
+        ],
+        "the normals are 64x24 but the depth map is 64x48",
+    );
+    assert_fails(
+        "bits",
+        &[
+            "render",
+            "--depth",
+            &dp,
+            "--intrinsics",
+            &kp,
+            "--bits",
+            "12",
+        ],
+        "expected 8 or 16",
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// The shared real depth maps render with their intrinsics (the Middlebury motorcycle:
 /// the motorcycle is darker in its creases than the open floor), and bad depth input
 /// fails cleanly.
@@ -474,6 +614,8 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         &format!("{data}/redwood.json"),
         "--resolution",
         "half",
+        "--depth-noise",
+        "none",
         "--out",
         s(&ao),
     ]);
@@ -484,9 +626,9 @@ fn real_depth_maps_render_and_bad_ones_fail() {
     );
     let plain = image::open(&ao).unwrap().to_luma8();
     assert_eq!(plain.dimensions(), (640, 480));
-    // Redwood's sensor noise read as occlusion darkens the walls; with the Kinect noise
-    // model the same map reads brighter (mostly open walls and floor).
-    let ao_k = d.join("ao_kinect.png");
+    // Redwood's sensor noise read as occlusion darkens the walls; with the noise model
+    // estimated from the map (the default) it reads brighter (mostly open walls and floor).
+    let ao_k = d.join("ao_estimated.png");
     let out = obscura(&[
         "render",
         "--depth",
@@ -495,14 +637,12 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         &format!("{data}/redwood.json"),
         "--resolution",
         "half",
-        "--depth-noise",
-        "kinect",
         "--out",
         s(&ao_k),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        out.status.success() && err.contains("depth noise σ"),
+        out.status.success() && err.contains("depth noise σ") && err.contains("estimated"),
         "{err}"
     );
     let mean = |img: &image::GrayImage| {

@@ -52,30 +52,6 @@ impl Sensor {
     }
 }
 
-/// A small deterministic generator (SplitMix64) with Gaussian draws (Box–Muller), so a
-/// simulated map is the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in (0, 1].
-    fn unit(&mut self) -> f64 {
-        ((self.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64
-    }
-
-    fn gaussian(&mut self) -> f32 {
-        let (u, v) = (self.unit(), self.unit());
-        ((-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()) as f32
-    }
-}
-
 /// The affine map of a view's depth onto the sensor's range: z = offset + scale · d.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RangeMap {
@@ -115,7 +91,7 @@ pub fn simulate(depth: &[f32], focal_px: f32, sensor: Sensor, seed: u64) -> (Vec
         valid().fold(f32::MAX, f32::min),
         valid().fold(0.0f32, f32::max),
     );
-    let mut rng = Rng(seed);
+    let mut rng = obscura::noise::Rng(seed);
     let noisy = depth
         .iter()
         .map(|&d| {

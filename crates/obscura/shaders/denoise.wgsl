@@ -33,7 +33,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if centre.x > 0.0 {
         let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
         let n = centre.yzw;
-        let inv_tol = 1.0 / min(PLANE_TOLERANCE * centre.x, DENOISE_RADIUS_TOLERANCE * frame.radius);
+        let inv_tol = 1.0 / max(
+            min(PLANE_TOLERANCE * centre.x, DENOISE_RADIUS_TOLERANCE * frame.radius),
+            DENOISE_NOISE_SIGMAS * depth_sigma(centre.x),
+        );
         let r = i32(PERIOD / 2u);
         let size = vec2<i32>(frame.size);
         var sum = 0.0;

@@ -343,6 +343,41 @@ impl GpuContext {
     /// An `R32Float` texture holding `data` (row-major, `width` × `height`), readable by
     /// shaders (`TEXTURE_BINDING`): linear depth from the CPU, for [`crate::AoInput`].
     pub fn upload_r32(&self, label: &str, data: &[f32], width: u32, height: u32) -> wgpu::Texture {
+        self.upload(
+            label,
+            bytemuck::cast_slice(data),
+            width,
+            height,
+            wgpu::TextureFormat::R32Float,
+        )
+    }
+
+    /// An `Rgba32Float` texture holding `data` (row-major, `width` × `height`), readable by
+    /// shaders: normals from the CPU ([`crate::NormalEncoding::ViewSigned`]).
+    pub fn upload_rgba32(
+        &self,
+        label: &str,
+        data: &[[f32; 4]],
+        width: u32,
+        height: u32,
+    ) -> wgpu::Texture {
+        self.upload(
+            label,
+            bytemuck::cast_slice(data),
+            width,
+            height,
+            wgpu::TextureFormat::Rgba32Float,
+        )
+    }
+
+    fn upload(
+        &self,
+        label: &str,
+        bytes: &[u8],
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::Texture {
         let tex = self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d {
@@ -353,16 +388,17 @@ impl GpuContext {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
+            format,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
+        let texel = format.block_copy_size(None).unwrap_or(4);
         self.queue.write_texture(
             tex.as_image_copy(),
-            bytemuck::cast_slice(data),
+            bytes,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(4 * width),
+                bytes_per_row: Some(texel * width),
                 rows_per_image: Some(height),
             },
             tex.size(),

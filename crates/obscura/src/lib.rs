@@ -33,6 +33,7 @@ pub mod gpu_struct;
 pub mod input;
 pub mod jitter;
 pub mod layout;
+pub mod noise;
 pub mod reference;
 pub mod settings;
 pub mod shader;
@@ -42,6 +43,7 @@ pub use ao::{Ao, AoInput, ResourceCount, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
+pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
     Preset, PyramidBuild, Resolution, Upsampler,

@@ -874,7 +874,7 @@ pub fn upsample(
 /// `prepared` its prepared values per pixel, `period` the pattern period 2 or 4); mirrors
 /// shaders/denoise.wgsl.
 pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) -> Vec<f32> {
-    use crate::shader::{DENOISE_RADIUS_TOLERANCE, PLANE_TOLERANCE};
+    use crate::shader::{DENOISE_NOISE_SIGMAS, DENOISE_RADIUS_TOLERANCE, PLANE_TOLERANCE};
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let r = (period / 2) as i32;
@@ -888,7 +888,9 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
             }
             let pos = f.view_position(centre([x, y]), c.x);
             let n = Vec3::new(c.y, c.z, c.w);
-            let tol = (PLANE_TOLERANCE * c.x).min(DENOISE_RADIUS_TOLERANCE * f.radius);
+            let tol = (PLANE_TOLERANCE * c.x)
+                .min(DENOISE_RADIUS_TOLERANCE * f.radius)
+                .max(DENOISE_NOISE_SIGMAS * f.depth_sigma(c.x));
             let (mut sum, mut total) = (0.0, 0.0);
             for dy in -r..=r {
                 for dx in -r..=r {

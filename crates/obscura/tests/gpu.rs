@@ -2470,6 +2470,30 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
             "{projection:?}: {within}/{} AO pixels within 2e-3",
             diffs.len()
         );
+        // Every estimator and layout raises its origin the same way: each against the
+        // mirror on the randomized run's prepared buffer (tolerance as
+        // check_modes_against_reference).
+        for v in all_variants() {
+            let m = run_ao(
+                &raw,
+                W,
+                H,
+                projection,
+                DepthConvention::LinearView,
+                None,
+                v,
+                &params,
+            );
+            let cpu = reference::ao(&m.frame, &v, &r.prepared);
+            let diffs: Vec<f32> = m.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
+            let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+            let max = diffs.iter().cloned().fold(0.0, f32::max);
+            assert!(
+                close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
+                "{projection:?} {v:?}: {close}/{} within 2e-3, max diff {max}",
+                diffs.len()
+            );
+        }
     }
 }
 
