@@ -6,21 +6,23 @@
 //! of squares over σ² follows χ² with 9 − 3 = 6 degrees of freedom (the standard
 //! regression result; noise-level estimation from local-fit residuals as in Immerkær 1996,
 //! "Fast noise variance estimation", and Förstner 2000). The windows are sorted by depth
-//! into bins of equal count; in each bin the *median* window estimates σ, so windows across
-//! depth edges and creases (whose residual is geometry, not noise) do not count unless
-//! they are the majority.
+//! into bins of equal count; in each bin the 5th-percentile window estimates σ, so windows
+//! across depth edges and creases (whose residual is geometry, not noise) do not count
+//! unless they are nearly all of it (the median overestimated σ up to 2× on the shared
+//! city and voxel views; docs/depth-noise.md).
 //!
 //! Integer-encoded maps are also quantised: at least their unit step, and coarser where the
 //! sensor quantises disparity (structured light and stereo store depth in terraces whose
 //! step grows as d²; Khoshelham & Elberink 2012, Smisek et al. 2011). Where at least half
-//! of a bin's neighbouring pixels read exactly the same depth, the map resolves less than
+//! of a bin's windows (taken with its two neighbour bins) read exactly the same depth as
+//! the next pixel along the plane's steeper axis, the map resolves less than
 //! the surfaces' change per pixel, and its typical non-zero step between neighbours (the
 //! lower quartile, steps under 5% of the depth so edges do not count) is its resolution.
 //! Terraces leave the 3×3 residuals at zero, so a bin's σ is the larger of the residuals'
 //! and the step's / √12 (uniform quantisation error).
 //!
-//! σ(d) = C + L·d + Q·d² is then fitted to the bins by least squares in relative error,
-//! with C ≥ 0 and Q ≥ 0.
+//! σ(d) = C + L·d + Q·d² is then fitted to a running median (3 bins) of the bins' σ by
+//! least squares in relative error, with C ≥ 0 and Q ≥ 0.
 
 use crate::shader::DEPTH_RANGE_TOLERANCE;
 use crate::{DepthNoise, Error, Projection, Result};
