@@ -118,6 +118,19 @@ pub struct DepthMap {
 /// Decoded values before scaling: width, height, row-major values, stored as integers.
 type Decoded = (u32, u32, Vec<f32>, bool);
 
+/// `values` (rows of `width`) inside an image of zeros (missing data) with `pad` = [left,
+/// top, right, bottom] pixels around them.
+fn pad_rows<T: Copy + Default>(values: &[T], width: u32, pad: [u32; 4]) -> Vec<T> {
+    let height = (values.len() / width as usize) as u32;
+    let pw = width + pad[0] + pad[2];
+    let mut padded = vec![T::default(); (pw * (height + pad[1] + pad[3])) as usize];
+    for (y, row) in values.chunks_exact(width as usize).enumerate() {
+        let start = ((y as u32 + pad[1]) * pw + pad[0]) as usize;
+        padded[start..start + row.len()].copy_from_slice(row);
+    }
+    padded
+}
+
 /// A file's lower-case extension and its bytes (`what` names it in the error).
 fn read_file(path: &Path, what: &str) -> Result<(String, Vec<u8>)> {
     let ext = path
@@ -499,12 +512,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         .fold((f32::MAX, 0.0f32), |(a, b), p| (a.min(p.z), b.max(p.z)));
     let (pad, projection) = k.centred(0.5 * zmin, (2.0 * zmax).min(f32::MAX));
     let (pw, ph) = (map.width + pad[0] + pad[2], map.height + pad[1] + pad[3]);
-    let mut padded = vec![0.0f32; (pw * ph) as usize];
-    for y in 0..map.height {
-        let src = &map.depth[(y * map.width) as usize..((y + 1) * map.width) as usize];
-        let start = ((y + pad[1]) * pw + pad[0]) as usize;
-        padded[start..start + map.width as usize].copy_from_slice(src);
-    }
+    let padded = pad_rows(&map.depth, map.width, pad);
     let (depth_noise, noise_text) = noise_model(&a.depth_noise, &map, k.depth_scale, || {
         let quantum = map.integer.then_some(k.depth_scale);
         obscura::DepthNoise::estimate(&padded, pw, ph, &projection, quantum)
@@ -538,13 +546,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
                     String::new()
                 }
             );
-            let mut padded = vec![[0.0f32; 4]; (pw * ph) as usize];
-            for y in 0..map.height {
-                let src = &n[(y * map.width) as usize..((y + 1) * map.width) as usize];
-                let start = ((y + pad[1]) * pw + pad[0]) as usize;
-                padded[start..start + map.width as usize].copy_from_slice(src);
-            }
-            Some(padded)
+            Some(pad_rows(&n, map.width, pad))
         }
         None => None,
     };

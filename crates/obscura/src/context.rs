@@ -370,7 +370,9 @@ impl GpuContext {
         )
     }
 
-    fn upload(
+    /// A `format` texture holding `bytes` (tightly packed rows, `width` × `height`),
+    /// readable by shaders (`TEXTURE_BINDING`).
+    pub fn upload(
         &self,
         label: &str,
         bytes: &[u8],

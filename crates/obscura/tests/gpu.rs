@@ -318,6 +318,20 @@ fn all_variants() -> Vec<AoOptions> {
     v
 }
 
+/// GPU AO against its CPU mirror. Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1.
+/// A sample position that lands within float error of a pixel boundary may round to the
+/// neighbour on one side.
+fn assert_matches_mirror(gpu: &[f32], cpu: &[f32], what: &str) {
+    let diffs: Vec<f32> = gpu.iter().zip(cpu).map(|(g, c)| (g - c).abs()).collect();
+    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+    let max = diffs.iter().cloned().fold(0.0, f32::max);
+    assert!(
+        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
+        "{what}: {close}/{} within 2e-3, max diff {max}",
+        diffs.len()
+    );
+}
+
 /// GPU AO in every mode against the CPU reference (per full-resolution pixel: the layer's
 /// pattern, offsets snapped to the N-pixel lattice), run on the GPU's own prepared buffer.
 fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str) {
@@ -358,16 +372,7 @@ fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str
             &params,
         );
         let cpu = reference::ao(&r.frame, &options, &prepared.prepared);
-        let diffs: Vec<f32> = r.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
-        let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-        let max = diffs.iter().cloned().fold(0.0, f32::max);
-        // Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1. A sample position that
-        // lands within float error of a pixel boundary may round to the neighbour on one side.
-        assert!(
-            close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
-            "{what} {options:?}: {close}/{} within 2e-3, max diff {max}",
-            diffs.len()
-        );
+        assert_matches_mirror(&r.ao, &cpu, &format!("{what} {options:?}"));
         if projection.is_perspective() {
             assert!(
                 r.ao.iter().any(|&a| a < 0.8),
@@ -1159,37 +1164,13 @@ fn given_normals_are_decoded_and_normalized() {
     let n = Vec3::new(0.3, -0.4, 0.8);
     let expected = n.normalize();
     let make = |format: wgpu::TextureFormat, texel: &[u8]| {
-        let t = c.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("test normals"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
         let data: Vec<u8> = texel
             .iter()
             .copied()
             .cycle()
             .take(texel.len() * (w * h) as usize)
             .collect();
-        c.queue.write_texture(
-            t.as_image_copy(),
-            &data,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(w * texel.len() as u32),
-                rows_per_image: Some(h),
-            },
-            t.size(),
-        );
-        t
+        c.upload("test normals", &data, w, h, format)
     };
     let signed = make(
         wgpu::TextureFormat::Rgba32Float,
@@ -2471,8 +2452,7 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
             diffs.len()
         );
         // Every estimator and layout raises its origin the same way: each against the
-        // mirror on the randomized run's prepared buffer (tolerance as
-        // check_modes_against_reference).
+        // mirror on the randomized run's prepared buffer.
         for v in all_variants() {
             let m = run_ao(
                 &raw,
@@ -2485,14 +2465,7 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
                 &params,
             );
             let cpu = reference::ao(&m.frame, &v, &r.prepared);
-            let diffs: Vec<f32> = m.ao.iter().zip(&cpu).map(|(g, c)| (g - c).abs()).collect();
-            let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-            let max = diffs.iter().cloned().fold(0.0, f32::max);
-            assert!(
-                close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
-                "{projection:?} {v:?}: {close}/{} within 2e-3, max diff {max}",
-                diffs.len()
-            );
+            assert_matches_mirror(&m.ao, &cpu, &format!("noisy {projection:?} {v:?}"));
         }
     }
 }
