@@ -352,6 +352,7 @@ fn noise_model(
     use obscura::DepthNoise;
     let quantisation = || DepthNoise {
         constant: scale / 12f32.sqrt(),
+        step_constant: scale,
         ..DepthNoise::NONE
     };
     let model = match arg.trim() {
@@ -396,6 +397,8 @@ fn noise_model(
                 constant,
                 linear,
                 quadratic,
+                step_constant: if map.integer { scale } else { 0.0 },
+                step_quadratic: 0.0,
             }
         }
     };
@@ -407,8 +410,16 @@ pub fn describe_noise(model: &obscura::DepthNoise) -> String {
     if model.is_none() {
         "none (clean depth)".to_string()
     } else {
+        let steps = match (model.step_constant > 0.0, model.step_quadratic > 0.0) {
+            (_, true) => format!(
+                ", terraces of max({:.3e}, {:.3e}·z²)",
+                model.step_constant, model.step_quadratic
+            ),
+            (true, false) => format!(", terraces of {:.3e}", model.step_constant),
+            _ => String::new(),
+        };
         format!(
-            "σ = {:.3e} + {:.3e}·z + {:.3e}·z²",
+            "σ = {:.3e} + {:.3e}·z + {:.3e}·z²{steps}",
             model.constant, model.linear, model.quadratic
         )
     }

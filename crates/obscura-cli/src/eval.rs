@@ -240,19 +240,25 @@ fn linear_depth(
         .collect())
 }
 
-/// Sensor-like linear depth from a G-buffer's depth (obscura_eval::sensor): the depth,
-/// as a texture, and the sensor's σ(z).
+/// Sensor-like linear depth made from a G-buffer's depth ([`sensor_depth`]).
+struct SensorDepth {
+    depth: Vec<f32>,
+    /// Keeps `view`'s texture alive.
+    _texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    /// The sensor's σ(z) in view units.
+    known: obscura::DepthNoise,
+    /// The step of its integer encoding in view units, if it has one.
+    quantum: Option<f32>,
+}
+
+/// Sensor-like linear depth from a G-buffer's depth (obscura_eval::sensor).
 fn sensor_depth(
     ctx: &GpuContext,
     g: &obscura_scene::GBuffer,
     input: &obscura::AoInput<'_>,
     s: sensor::Sensor,
-) -> Result<(
-    Vec<f32>,
-    wgpu::Texture,
-    wgpu::TextureView,
-    obscura::DepthNoise,
-)> {
+) -> Result<SensorDepth> {
     let clean = linear_depth(ctx, g, input)?;
     let focal_px = match input.projection {
         obscura::Projection::Perspective { fov_y, .. } => {
@@ -267,15 +273,29 @@ fn sensor_depth(
         sensor::NEAR_M,
         sensor::FAR_M
     );
-    let tex = ctx.upload_r32("sensor depth", &noisy, g.width, g.height);
-    let view = tex.create_view(&Default::default());
+    let texture = ctx.upload_r32("sensor depth", &noisy, g.width, g.height);
+    let view = texture.create_view(&Default::default());
     let (constant, linear, quadratic) = map.sigma_in_depth(s.sigma_m(focal_px));
     let noise = obscura::DepthNoise {
         constant,
         linear,
         quadratic,
+        // The sensor's noise dithers its millimetre terraces away beyond 0.58 m (σ of
+        // half a step): no terraces to model.
+        ..obscura::DepthNoise::NONE
     };
-    Ok((noisy, tex, view, noise))
+    // Kinect-like depth is stored as integer millimetres: its unit in view units.
+    let quantum = match s {
+        sensor::Sensor::Kinect => Some(0.001 / map.scale),
+        sensor::Sensor::Stereo => None,
+    };
+    Ok(SensorDepth {
+        depth: noisy,
+        _texture: texture,
+        view,
+        known: noise,
+        quantum,
+    })
 }
 
 /// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
@@ -600,30 +620,35 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             radius,
             ..Default::default()
         };
-        if let Some((_, _, view, noise)) = &noisy {
-            input.depth = view;
+        if let Some(s) = &noisy {
+            input.depth = &s.view;
             input.convention = obscura::DepthConvention::LinearView;
             input.normals = None;
             if a.depth_noise == NoiseArg::Known {
-                params.depth_noise = *noise;
+                params.depth_noise = s.known;
             }
         }
         if a.depth_noise == NoiseArg::Estimate
             || (a.depth_noise == NoiseArg::Auto && noisy.is_some())
         {
             let depth = match &noisy {
-                Some((d, ..)) => std::borrow::Cow::Borrowed(d),
+                Some(s) => std::borrow::Cow::Borrowed(&s.depth),
                 None => std::borrow::Cow::Owned(linear_depth(&ctx, &g, &input)?),
             };
-            let e = obscura::DepthNoise::estimate(&depth, w, h, &input.projection, None)?;
+            // An integer encoding (Kinect-like millimetres) is known to the estimate, as
+            // `render --depth` knows it of a 16-bit PNG.
+            let quantum = noisy.as_ref().and_then(|s| s.quantum);
+            let e = obscura::DepthNoise::estimate(&depth, w, h, &input.projection, quantum)?;
             params.depth_noise = e.model;
             eprintln!(
                 "  depth noise: estimated {} (σ up to {:.3} px){}",
                 crate::depthmap::describe_noise(&e.model),
                 e.sigma_px,
                 match &noisy {
-                    Some((.., known)) =>
-                        format!("; the sensor's {}", crate::depthmap::describe_noise(known)),
+                    Some(s) => format!(
+                        "; the sensor's {}",
+                        crate::depthmap::describe_noise(&s.known)
+                    ),
                     None => String::new(),
                 }
             );

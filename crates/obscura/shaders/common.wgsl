@@ -50,6 +50,12 @@ fn depth_sigma(d: f32) -> f32 {
     return max(frame.noise.x + (frame.noise.y + frame.noise.z * d) * d, 0.0);
 }
 
+// The depth terraces' step at linear depth `d` (DepthNoise::step; 0 for rendered depth).
+// Mirror: `FrameUniforms::depth_step`.
+fn depth_step(d: f32) -> f32 {
+    return max(frame.noise_step.x, frame.noise_step.y * d * d);
+}
+
 // Where the estimators measure occluders from: the surface point of pixel-space `p` at
 // depth `d`, raised NOISE_OFFSET_SIGMAS σ along its normal `n`, so depth noise within that
 // of the tangent plane is not occlusion. The surface itself for rendered depth.

@@ -90,6 +90,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         for (var s = 0u; s < STEPS; s++) {
             let off = snap_offset(dir * ray);
             ray += step_px;
+            // A short step snapped to the N x N lattice can land on the centre itself. With
+            // the origin raised off the surface (noisy depth) that sample lies straight
+            // below it and, on a surface turned over 45 degrees from V, reads as a horizon
+            // inside the hemisphere; the centre is never its own occluder.
+            if all(off == vec2<i32>(0)) {
+                continue;
+            }
             for (var side = 0; side < 2; side++) {
                 var q = p + off;
                 if side == 1 {

@@ -1,12 +1,13 @@
 // A pixel's prepared value, vec4(depth, normal), from noisy depth (AoOptions::depth_noise;
 // composed after normals_reconstruct.wgsl into the prepare passes): a least-squares plane
 // fitted to (2 FIT_RADIUS + 1)^2 depths whose spacing grows with the noise σ(d) relative to
-// the pixel's footprint, so the normal's error stays below 20° (shader.rs, FIT_*). A plane
-// is linear in pixel position in 1/d under perspective (in d under orthographic
-// projection), so that is what is fitted, as in plane-fit normal estimation of range
-// images (Hoppe et al. 1992, fitted here in image space where the noise is axial). Two
-// fits: the first over the 3 x 3 taps nearest the pixel, the second over every tap that
-// agrees with the first within the noise, so taps on another surface (across a crease or
+// the pixel's footprint and with the terraces of quantised depth (DepthNoise::step), so
+// the normal's error stays below 20° (shader.rs, FIT_*). A plane is linear in pixel
+// position in 1/d under perspective (in d under orthographic projection), so that is what
+// is fitted, as in plane-fit normal estimation of range images (Hoppe et al. 1992, fitted
+// here in image space where the noise is axial). Two fits: the first over the 3 x 3 taps
+// nearest the pixel, the second over every tap that agrees with the first within the
+// noise and one terrace step, so taps on another surface (across a crease or
 // an edge farther than the noise) never tilt the plane. The depth stored is the plane's
 // at the pixel: the estimators then read depth averaged over the window. Where too few
 // taps agree, the depth as given and the three-pixel reconstruction (normals_reconstruct).
@@ -47,7 +48,16 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
     } else if need * need <= 50.0 {
         reach = 2;
     }
-    let stride = i32(clamp(ceil(need / 14.0), 1.0, f32(FIT_MAX_STRIDE)));
+    var stride = i32(clamp(ceil(need / 14.0), 1.0, f32(FIT_MAX_STRIDE)));
+    // Terraces: a window inside one terrace of `step` is flat, and its true slope is at
+    // most step / (window width); the window reaches at least `need_step` pixels from the
+    // centre so that slope stays below FIT_NORMAL_TAN.
+    let step = depth_step(d);
+    let need_step = step / (2.0 * footprint * FIT_NORMAL_TAN);
+    if need_step > f32(reach * stride) {
+        reach = FIT_RADIUS;
+        stride = max(stride, i32(clamp(ceil(need_step / f32(FIT_RADIUS)), 1.0, f32(FIT_MAX_STRIDE))));
+    }
     let fc = select(d, 1.0 / d, persp);
     var f: array<f32, FIT_TAPS>;
     var m = mat3x3<f32>();
@@ -64,7 +74,7 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
             f[k] = select(dq, 1.0 / dq, persp);
         }
         // First fit: the 3 x 3 taps nearest the centre that lie near its depth.
-        let tol = 1.4142135 * FIT_SIGMAS * sigma + FIT_SLOPE * footprint * f32(stride);
+        let tol = 1.4142135 * FIT_SIGMAS * sigma + step + FIT_SLOPE * footprint * f32(stride);
         if all(abs(o) <= vec2<i32>(1)) && dq > 0.0 && abs(dq - d) <= tol {
             let x = vec3<f32>(1.0, vec2<f32>(o));
             m += mat3x3<f32>(x * x.x, x * x.y, x * x.z);
@@ -72,9 +82,9 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
         }
     }
     let first = solve_plane(m, r, 5.0);
-    // Second fit: every tap within FIT_SIGMAS of the first plane's uncertainty there: the
+    // Second fit: every tap within FIT_SIGMAS of the first plane's uncertainty there (the
     // tap's own σ and the first plane's prediction error, σ sqrt(1/9 + t^2/6) at t taps
-    // out (least squares over 3 x 3), together σ sqrt(1 + t^2 / 6).
+    // out, least squares over 3 x 3: together σ sqrt(1 + t^2 / 6)) and one terrace step.
     m = mat3x3<f32>();
     r = vec3<f32>(0.0);
     for (var k = 0; k < FIT_TAPS; k++) {
@@ -82,7 +92,7 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
         let fp = fc + first.x + first.y * o.x + first.z * o.y;
         let dq = select(f[k], 1.0 / f[k], persp);
         let dp = select(fp, 1.0 / fp, persp);
-        let tol = FIT_SIGMAS * depth_sigma(dp) * sqrt(1.0 + dot(o, o) / 6.0);
+        let tol = FIT_SIGMAS * depth_sigma(dp) * sqrt(1.0 + dot(o, o) / 6.0) + depth_step(dp);
         if f[k] != 0.0 && dp > 0.0 && abs(dq - dp) <= tol {
             let x = vec3<f32>(1.0, o);
             m += mat3x3<f32>(x * x.x, x * x.y, x * x.z);

@@ -23,6 +23,11 @@
 //!
 //! σ(d) = C + L·d + Q·d² is then fitted to a running median (3 bins) of the bins' σ by
 //! least squares in relative error, with C ≥ 0 and Q ≥ 0.
+//!
+//! Where some bin shows terraces, the model also carries their step (the fit of the
+//! prepare pass spans them, [`DepthNoise::step`]): the encoding's unit, and the median of
+//! step / d² over bins whose terraces are coarser than the unit. Noise of half a step or
+//! more dithers terraces away (Widrow & Kollár 2008), leaving no ties: then no step.
 
 use crate::shader::DEPTH_RANGE_TOLERANCE;
 use crate::{DepthNoise, Error, Projection, Result};
@@ -51,6 +56,9 @@ pub struct NoiseBin {
     pub sigma: f32,
     /// 3×3 windows in the bin.
     pub windows: usize,
+    /// The terraces' step measured in the bin: 0 for float maps and where at most half of
+    /// the windows tie with a neighbour (no terraces, or noise dithers them away).
+    pub step: f32,
 }
 
 /// What [`DepthNoise::estimate`] found.
@@ -112,15 +120,29 @@ impl DepthNoise {
                 // terrace, whose steps are at its edges.
                 let around = &windows[i.saturating_sub(1) * windows.len() / count
                     ..(i + 2).min(count) * windows.len() / count];
-                let step = quantum.map_or(0.0, |unit| unit.max(terrace_step(around, depth)));
+                let terrace = quantum.map_or(0.0, |_| terrace_step(around, depth));
+                let step = if terrace > 0.0 {
+                    quantum.unwrap_or(0.0).max(terrace)
+                } else {
+                    0.0
+                };
                 NoiseBin {
                     depth,
-                    sigma: sigma.max(step / 12f32.sqrt()),
+                    sigma: sigma.max(quantum.unwrap_or(0.0).max(step) / 12f32.sqrt()),
                     windows: slice.len(),
+                    step,
                 }
             })
             .collect();
-        let model = fit_model(&bins);
+        // Terraces where some bin shows them; none where the noise dithers them away
+        // (noise of half a step or more, Widrow & Kollár 2008: no ties to see).
+        let unit = quantum.unwrap_or(0.0);
+        let terraced = bins.iter().any(|b| b.step > 0.0);
+        let model = DepthNoise {
+            step_constant: if terraced { unit } else { 0.0 },
+            step_quadratic: step_quadratic(&bins, unit),
+            ..fit_model(&bins)
+        };
         let px = |d: f32| if persp { footprint * d } else { footprint };
         let sigma_px = bins
             .iter()
@@ -141,6 +163,22 @@ impl DepthNoise {
             sigma_px,
         })
     }
+}
+
+/// The d² law of a sensor that quantises disparity: the median of step / d² over the bins
+/// whose terraces are coarser than the encoding's `unit` (by half again, so a map that is
+/// only quantised by its encoding gets 0).
+fn step_quadratic(bins: &[NoiseBin], unit: f32) -> f32 {
+    let mut k: Vec<f32> = bins
+        .iter()
+        .filter(|b| b.step > 1.5 * unit && b.depth > 0.0)
+        .map(|b| b.step / (b.depth * b.depth))
+        .collect();
+    if k.is_empty() {
+        return 0.0;
+    }
+    let mid = k.len() / 2;
+    *k.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 /// A bin's terrace step: with at least half of its windows' differences along the
@@ -308,6 +346,7 @@ fn fit_bins(bins: &[NoiseBin]) -> DepthNoise {
             constant: (c[0] * unit_s) as f32,
             linear: (c[1] * unit_s / unit_d) as f32,
             quadratic: (c[2] * unit_s / (unit_d * unit_d)) as f32,
+            ..DepthNoise::NONE
         },
         None => DepthNoise::NONE,
     }
@@ -399,16 +438,17 @@ mod tests {
                 constant: 0.0,
                 linear: 0.0,
                 quadratic: 0.002,
+                ..DepthNoise::NONE
             },
             DepthNoise {
                 constant: 0.003,
-                linear: 0.0,
-                quadratic: 0.0,
+                ..DepthNoise::NONE
             },
             DepthNoise {
                 constant: 0.001,
                 linear: 0.002,
                 quadratic: 0.0005,
+                ..DepthNoise::NONE
             },
         ] {
             let depth = add_noise(&floor(), &model, 7);
@@ -447,9 +487,8 @@ mod tests {
         let noisy = add_noise(
             &depth,
             &DepthNoise {
-                constant: 0.0,
                 linear: 0.004,
-                quadratic: 0.0,
+                ..DepthNoise::NONE
             },
             3,
         );
@@ -459,8 +498,9 @@ mod tests {
 
     /// Disparity-quantised depth (terraces whose step grows as d², as a structured-light
     /// sensor stores it): the 3×3 residuals are zero on the terraces, and the estimate is
-    /// the step / √12 (within 25%) when the map says it is integer-encoded; a finely
-    /// quantised map is clean.
+    /// the step / √12 (within 25%) when the map says it is integer-encoded, and the step
+    /// model follows the d² law (within 25%) above the encoding's unit; noise dithers the
+    /// terraces away; a finely quantised map is clean.
     #[test]
     fn terraces_of_an_integer_map_are_its_resolution() {
         // Depth from a disparity rounded to 1/8: step ≈ d² / (fb) / 8 with fb = 10, 2.7
@@ -487,7 +527,28 @@ mod tests {
                 (model / truth - 1.0).abs() < 0.25,
                 "{e:?}: at {b:?}, step/√12 {truth}"
             );
+            let step = e.model.step(b.depth);
+            assert!(
+                (step / (truth * 12f32.sqrt()) - 1.0).abs() < 0.25,
+                "{e:?}: at {b:?}, step {step}"
+            );
         }
+        assert_eq!(e.model.step_constant, 1e-4);
+        // Noise of many units before the rounding dithers the terraces away: no ties, no
+        // steps in the model (its σ is the noise's).
+        let noise = DepthNoise {
+            quadratic: 0.002,
+            ..DepthNoise::NONE
+        };
+        let dithered: Vec<f32> = add_noise(&floor(), &noise, 5)
+            .iter()
+            .map(|&d| (d * 1e4).round() / 1e4)
+            .collect();
+        let e = DepthNoise::estimate(&dithered, W, H, &camera(), Some(1e-4)).unwrap();
+        assert!(
+            e.model.step_constant == 0.0 && e.model.step_quadratic == 0.0 && !e.model.is_none(),
+            "{e:?}"
+        );
         // A fine integer map (1e-5 units, far below the surface's change per pixel) has
         // few ties: only its unit, which is negligible.
         let fine: Vec<f32> = floor().iter().map(|&d| (d * 1e5).round() / 1e5).collect();

@@ -139,14 +139,24 @@ pub fn fit_surface(f: &FrameUniforms, raw: &[f32], raw_width: u32, p: [i32; 2], 
     let sigma = f.depth_sigma(d);
     let footprint = if persp { d } else { 1.0 } / f.radius_to_px;
     let need = sigma / (footprint * FIT_NORMAL_TAN);
-    let reach = if need * need <= 6.0 {
+    let mut reach = if need * need <= 6.0 {
         1
     } else if need * need <= 50.0 {
         2
     } else {
         FIT_RADIUS
     };
-    let stride = (need / 14.0).ceil().clamp(1.0, FIT_MAX_STRIDE as f32) as i32;
+    let mut stride = (need / 14.0).ceil().clamp(1.0, FIT_MAX_STRIDE as f32) as i32;
+    let step = f.depth_step(d);
+    let need_step = step / (2.0 * footprint * FIT_NORMAL_TAN);
+    if need_step > (reach * stride) as f32 {
+        reach = FIT_RADIUS;
+        stride = stride.max(
+            (need_step / FIT_RADIUS as f32)
+                .ceil()
+                .clamp(1.0, FIT_MAX_STRIDE as f32) as i32,
+        );
+    }
     let to_f = |v: f32| if persp { 1.0 / v } else { v };
     let fc = to_f(d);
     let side = 2 * FIT_RADIUS + 1;
@@ -166,8 +176,9 @@ pub fn fit_surface(f: &FrameUniforms, raw: &[f32], raw_width: u32, p: [i32; 2], 
         );
         let fq = if dq > 0.0 { to_f(dq) } else { 0.0 };
         taps.push(fq);
-        let tol =
-            std::f32::consts::SQRT_2 * FIT_SIGMAS * sigma + FIT_SLOPE * footprint * stride as f32;
+        let tol = std::f32::consts::SQRT_2 * FIT_SIGMAS * sigma
+            + step
+            + FIT_SLOPE * footprint * stride as f32;
         if o[0].abs() <= 1 && o[1].abs() <= 1 && dq > 0.0 && (dq - d).abs() <= tol {
             first.add([o[0] as f32, o[1] as f32], fq - fc);
         }
@@ -185,7 +196,8 @@ pub fn fit_surface(f: &FrameUniforms, raw: &[f32], raw_width: u32, p: [i32; 2], 
         ];
         let fp = fc + first.x + first.y * o[0] + first.z * o[1];
         let (dq, dp) = (to_f(fq), to_f(fp));
-        let tol = FIT_SIGMAS * f.depth_sigma(dp) * (1.0 + (o[0] * o[0] + o[1] * o[1]) / 6.0).sqrt();
+        let tol = FIT_SIGMAS * f.depth_sigma(dp) * (1.0 + (o[0] * o[0] + o[1] * o[1]) / 6.0).sqrt()
+            + f.depth_step(dp);
         if fq != 0.0 && dp > 0.0 && (dq - dp).abs() <= tol {
             second.add(o, fq - fc);
         }
@@ -451,6 +463,10 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         for _ in 0..px.steps {
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             ray += step_px;
+            // The centre is never its own occluder (gtao.wgsl).
+            if off == [0, 0] {
+                continue;
+            }
             for (side, h) in hc.iter_mut().enumerate() {
                 let q = if side == 0 {
                     [p[0] + off[0], p[1] + off[1]]

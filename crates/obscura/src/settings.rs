@@ -390,9 +390,14 @@ pub struct AoOptions {
 /// `quadratic` · d² (clamped at 0), in view-space units at linear view depth d. A
 /// structured-light sensor in metres: σ ≈ 0.0015 · d² (Khoshelham & Elberink 2012); a
 /// stereo rig: σ ≈ δ / (f · B) · d² for disparity error δ pixels, focal length f pixels and
-/// baseline B; integer encodings add their quantisation step / √12. When non-zero:
-/// normals and depth come from planes fitted over a window wide enough for σ
-/// (shaders/normals_fit.wgsl), and the estimators measure occluders from the surface
+/// baseline B; integer encodings add their quantisation step / √12. Integer maps also
+/// store depth in terraces of `step(d)` = max(`step_constant`, `step_quadratic` · d²)
+/// (the encoding's unit; a sensor quantising disparity, Smisek et al. 2011): a fitting
+/// window narrower than a terrace sees a flat surface, and the next terrace sits a whole
+/// step away, however small σ is. When σ is non-zero: normals and depth come from planes
+/// fitted over a window wide enough for σ and for the terraces, taking taps within the
+/// noise and one step of the plane (shaders/normals_fit.wgsl), and the estimators measure
+/// occluders from the surface
 /// raised [`crate::shader::NOISE_OFFSET_SIGMAS`] σ along its normal, so noise near the
 /// tangent plane does not read as occlusion. Zero (the default): rendered depth, the
 /// passes are those without a noise model. The plane-fitting prepare pass is compiled on
@@ -405,6 +410,11 @@ pub struct DepthNoise {
     pub linear: f32,
     /// The d² coefficient, 1 / view-space units. Range: finite, ≥ 0.
     pub quadratic: f32,
+    /// The terraces' smallest step, view-space units (an integer map's unit). Range:
+    /// finite, ≥ 0. Used only where σ is non-zero.
+    pub step_constant: f32,
+    /// The terraces' step over d², 1 / view-space units. Range: finite, ≥ 0.
+    pub step_quadratic: f32,
 }
 
 impl DepthNoise {
@@ -413,9 +423,11 @@ impl DepthNoise {
         constant: 0.0,
         linear: 0.0,
         quadratic: 0.0,
+        step_constant: 0.0,
+        step_quadratic: 0.0,
     };
 
-    /// Whether σ is zero everywhere.
+    /// Whether σ is zero everywhere (the steps matter only with noise).
     pub fn is_none(&self) -> bool {
         self.constant == 0.0 && self.linear == 0.0 && self.quadratic == 0.0
     }
@@ -423,6 +435,11 @@ impl DepthNoise {
     /// σ at linear depth `d` (common.wgsl, `depth_sigma`).
     pub fn sigma(&self, d: f32) -> f32 {
         (self.constant + (self.linear + self.quadratic * d) * d).max(0.0)
+    }
+
+    /// The terraces' step at linear depth `d` (common.wgsl, `depth_step`).
+    pub fn step(&self, d: f32) -> f32 {
+        self.step_constant.max(self.step_quadratic * d * d)
     }
 }
 
@@ -663,6 +680,18 @@ impl AoParams {
             n.quadratic.is_finite() && n.quadratic >= 0.0,
             "depth_noise.quadratic",
             n.quadratic,
+            "a finite number >= 0 (1 / view-space units)",
+        )?;
+        check(
+            n.step_constant.is_finite() && n.step_constant >= 0.0,
+            "depth_noise.step_constant",
+            n.step_constant,
+            "a finite number >= 0 (view-space units)",
+        )?;
+        check(
+            n.step_quadratic.is_finite() && n.step_quadratic >= 0.0,
+            "depth_noise.step_quadratic",
+            n.step_quadratic,
             "a finite number >= 0 (1 / view-space units)",
         )
     }

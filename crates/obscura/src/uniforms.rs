@@ -60,6 +60,8 @@ crate::gpu_struct! {
         /// Depth noise σ(d) = noise.x + noise.y · d + noise.z · d², clamped at 0
         /// ([`crate::AoParams::depth_noise`]); w unused (keeps `patterns` 16-byte aligned).
         pub noise: [f32; 4],
+        /// The depth terraces' step max(x, y · d²) ([`crate::DepthNoise::step`]); zw unused.
+        pub noise_step: [f32; 4],
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
@@ -130,6 +132,12 @@ impl FrameUniforms {
                 params.depth_noise.constant,
                 params.depth_noise.linear,
                 params.depth_noise.quadratic,
+                0.0,
+            ],
+            noise_step: [
+                params.depth_noise.step_constant,
+                params.depth_noise.step_quadratic,
+                0.0,
                 0.0,
             ],
             patterns: if options.jitter {
@@ -216,6 +224,12 @@ impl FrameUniforms {
     /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in shaders/common.wgsl.
     pub fn depth_sigma(&self, d: f32) -> f32 {
         (self.noise[0] + (self.noise[1] + self.noise[2] * d) * d).max(0.0)
+    }
+
+    /// The depth terraces' step at linear depth `d`; mirrors `depth_step` in
+    /// shaders/common.wgsl.
+    pub fn depth_step(&self, d: f32) -> f32 {
+        self.noise_step[0].max(self.noise_step[1] * d * d)
     }
 
     /// Where the estimators measure occluders from; mirrors `estimator_origin` in
@@ -337,6 +351,8 @@ mod tests {
                     constant: f(0.0),
                     linear: f(0.0),
                     quadratic: f(0.0),
+                    step_constant: f(0.0),
+                    step_quadratic: f(0.0),
                 },
                 motion: match pick(3) {
                     0 => crate::CameraMotion::Still,

@@ -2352,31 +2352,25 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
     }
 }
 
-/// Deterministic Gaussian noise (SplitMix64 + Box–Muller) for the noisy-depth tests.
+/// Deterministic Gaussian noise for the noisy-depth tests.
 fn gaussian_noise(n: usize, seed: u64) -> Vec<f32> {
-    let mut s = seed;
-    let mut next = move || {
-        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (((z ^ (z >> 31)) >> 11) + 1) as f64 / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| ((-2.0 * next().ln()).sqrt() * (std::f64::consts::TAU * next()).cos()) as f32)
-        .collect()
+    let mut rng = obscura::noise::Rng(seed);
+    (0..n).map(|_| rng.gaussian()).collect()
 }
 
 /// Noisy depth (AoParams::depth_noise): the plane-fitting prepare pass and the estimators'
 /// raised origin match the CPU reference, for perspective and orthographic projections, on
-/// the test scene (planes, a crease, spheres, sky) with noise of σ(d) = 0.004 + 0.004 d².
+/// the test scene (planes, a crease, spheres, sky) with noise of σ(d) = 0.004 + 0.004 d²
+/// and terraces of max(0.002, 0.006 d²).
 #[test]
 fn noisy_depth_prepare_and_ao_match_cpu_reference() {
     let _g = lock();
     let noise = obscura::DepthNoise {
         constant: 0.004,
-        linear: 0.0,
         quadratic: 0.004,
+        step_constant: 0.002,
+        step_quadratic: 0.006,
+        ..obscura::DepthNoise::NONE
     };
     for projection in test_projections() {
         let clean = test_scene(&projection, W, H);
@@ -2470,6 +2464,67 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
     }
 }
 
+/// AO of a plane's linear depth `raw` (radius 0.5) with `depth_noise`, over the valid
+/// pixels of `xs` × `ys`: each pixel's prepared normal's angle from `normal` (degrees,
+/// sorted) and its AO (sorted).
+fn plane_ao(
+    raw: &[f32],
+    (w, h): (u32, u32),
+    projection: Projection,
+    options: AoOptions,
+    depth_noise: obscura::DepthNoise,
+    (xs, ys): (std::ops::Range<u32>, std::ops::Range<u32>),
+    normal: Vec3,
+) -> (Vec<f32>, Vec<f32>) {
+    let params = AoParams {
+        radius: 0.5,
+        depth_noise,
+        ..Default::default()
+    };
+    let r = run_ao(
+        raw,
+        w,
+        h,
+        projection,
+        DepthConvention::LinearView,
+        None,
+        options,
+        &params,
+    );
+    let pixels = ys
+        .flat_map(|y| xs.clone().map(move |x| (y * w + x) as usize))
+        .filter(|&i| raw[i] > 0.0);
+    // Fused deinterleaved layouts keep no full-resolution prepared buffer: no angles.
+    let (mut angles, mut ao): (Vec<f32>, Vec<f32>) = pixels
+        .map(|i| {
+            let angle = r
+                .prepared
+                .get(i)
+                .map_or(0.0, |p| p.yzw().angle_between(normal));
+            (angle.to_degrees(), r.ao[i])
+        })
+        .unzip();
+    angles.sort_by(f32::total_cmp);
+    ao.sort_by(f32::total_cmp);
+    (angles, ao)
+}
+
+/// A floor 1.5 below the camera, seen from 1.8 to the far distance (~38° to 80° to the
+/// view).
+fn floor_depth(projection: &Projection, w: u32, h: u32) -> Vec<f32> {
+    ray_cast(
+        projection,
+        w,
+        h,
+        &[(Vec3::new(0.0, -1.5, 0.0), Vec3::Y)],
+        &[],
+    )
+}
+
+fn mean(v: &[f32]) -> f32 {
+    v.iter().sum::<f32>() / v.len() as f32
+}
+
 /// The analytic case the noise model is for: a tilted plane seen through axial noise has
 /// no occlusion and one normal. With the model the normals are within 10° of the plane's
 /// (median) and the AO within 0.03 of 1 (mean); without it, the same noise gives normals
@@ -2480,18 +2535,10 @@ fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
     let _g = lock();
     let (w, h) = (96, 64);
     let projection = persp(w, h);
-    // A floor 1.5 below the camera, seen from 1.8 to the far distance (~38° to 80° to the view).
-    let clean = ray_cast(
-        &projection,
-        w,
-        h,
-        &[(Vec3::new(0.0, -1.5, 0.0), Vec3::Y)],
-        &[],
-    );
+    let clean = floor_depth(&projection, w, h);
     let noise = obscura::DepthNoise {
-        constant: 0.0,
-        linear: 0.0,
         quadratic: 0.003,
+        ..obscura::DepthNoise::NONE
     };
     let g = gaussian_noise(clean.len(), 5);
     let raw: Vec<f32> = clean
@@ -2499,37 +2546,18 @@ fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
         .zip(&g)
         .map(|(&d, &n)| if d > 0.0 { d + noise.sigma(d) * n } else { 0.0 })
         .collect();
+    // Interior floor pixels (the window stays on the floor).
     let stats = |depth_noise: obscura::DepthNoise| {
-        let params = AoParams {
-            radius: 0.5,
-            depth_noise,
-            ..Default::default()
-        };
-        let r = run_ao(
+        let (angles, ao) = plane_ao(
             &raw,
-            w,
-            h,
+            (w, h),
             projection,
-            DepthConvention::LinearView,
-            None,
             randomized(),
-            &params,
+            depth_noise,
+            (4..w - 4, 40..h - 4),
+            Vec3::Y,
         );
-        // Interior floor pixels (the window stays on the floor).
-        let mut angles = Vec::new();
-        let mut ao = Vec::new();
-        for y in 40..h - 4 {
-            for x in 4..w - 4 {
-                let i = (y * w + x) as usize;
-                if clean[i] > 0.0 {
-                    angles.push(r.prepared[i].yzw().angle_between(Vec3::Y).to_degrees());
-                    ao.push(r.ao[i]);
-                }
-            }
-        }
-        angles.sort_by(f32::total_cmp);
-        let mean_ao = ao.iter().sum::<f32>() / ao.len() as f32;
-        (angles[angles.len() / 2], mean_ao)
+        (angles[angles.len() / 2], mean(&ao))
     };
     let (angle, ao) = stats(noise);
     let (raw_angle, raw_ao) = stats(obscura::DepthNoise::NONE);
@@ -2541,4 +2569,122 @@ fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
         raw_angle > 1.5 * angle && raw_ao < ao - 0.02,
         "without the model: median normal error {raw_angle}°, mean AO {raw_ao} (with: {ao})"
     );
+}
+
+/// Quantised depth (DepthNoise::step): a wall seen nearly face-on, stored in disparity
+/// terraces (step k·d², as a structured-light sensor stores it) about ten pixels wide,
+/// wider than a 3 × 3 fit. With the estimated model (terraces included, the default of
+/// `render --depth`) the fit spans several terraces: normals within 10° of the wall's
+/// (median), no stripes (the 5th percentile of AO above 0.9) and the mean AO within 0.03
+/// of 1. The same σ without the terraces' step keeps each window on one terrace, so the
+/// steps between terraces read as occlusion: the test fails if the step does nothing.
+#[test]
+fn quantised_wall_reads_without_stripes() {
+    let _g = lock();
+    let (w, h) = (128, 96);
+    let projection = persp(w, h);
+    // A wall 2.5 ahead, turned 15° about the vertical axis.
+    let normal = Vec3::new(15f32.to_radians().sin(), 0.0, 15f32.to_radians().cos());
+    let clean = ray_cast(
+        &projection,
+        w,
+        h,
+        &[(Vec3::new(0.0, 0.0, -2.5), normal)],
+        &[],
+    );
+    // Disparity 1/d rounded to k: depth steps of k·d², ~0.08 at 2.5 (~10 pixels of the
+    // wall's slope), stored in an integer map of unit 1e-3.
+    let k = 0.013f32;
+    let raw: Vec<f32> = clean
+        .iter()
+        .map(|&d| {
+            if d > 0.0 {
+                let q = 1.0 / ((1.0 / (d * k)).round() * k);
+                (q * 1e3).round() / 1e3
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let e = obscura::DepthNoise::estimate(&raw, w, h, &projection, Some(1e-3)).unwrap();
+    assert!(
+        (e.model.step(2.5) / (k * 6.25) - 1.0).abs() < 0.25,
+        "estimated terraces {:?}",
+        e.model
+    );
+    let stats = |depth_noise: obscura::DepthNoise| {
+        let (angles, ao) = plane_ao(
+            &raw,
+            (w, h),
+            projection,
+            randomized(),
+            depth_noise,
+            (14..w - 14, 14..h - 14),
+            normal,
+        );
+        (angles[angles.len() / 2], mean(&ao), ao[ao.len() / 20])
+    };
+    let (angle, mean_ao, low) = stats(e.model);
+    assert!(
+        angle < 10.0 && mean_ao > 0.97 && low > 0.9,
+        "with the terraces: median normal error {angle}°, mean AO {mean_ao}, 5th percentile {low}"
+    );
+    let flat = obscura::DepthNoise {
+        step_constant: 0.0,
+        step_quadratic: 0.0,
+        ..e.model
+    };
+    let (flat_angle, flat_mean, flat_low) = stats(flat);
+    assert!(
+        flat_low < low - 0.05,
+        "without the terraces' step: median normal error {flat_angle}°, mean AO {flat_mean}, \
+         5th percentile {flat_low} (with: {low})"
+    );
+}
+
+/// With a noise model GTAO measures from the surface raised σ along its normal; a march
+/// step snapped to the N × N lattice can land on the centre pixel, which then lies straight
+/// below the raised origin and, on a surface turned more than 45° from the view, reads as
+/// a horizon. On a clean floor seen at 38°–80°, the model must not darken the AO by more
+/// than 0.01 (mean) in any layout; counting the centre, GTAO 4×4 read 0.78 against 0.95.
+#[test]
+fn gtao_centre_is_not_its_own_occluder() {
+    let _g = lock();
+    let (w, h) = (96, 64);
+    let projection = persp(w, h);
+    let clean = floor_depth(&projection, w, h);
+    let mean_ao = |mode: AoMode, depth_noise: obscura::DepthNoise| {
+        let options = AoOptions {
+            mode,
+            denoise: Denoise::None,
+            ..Default::default()
+        };
+        let region = (4..w - 4, 40..h - 4);
+        mean(
+            &plane_ao(
+                &clean,
+                (w, h),
+                projection,
+                options,
+                depth_noise,
+                region,
+                Vec3::Y,
+            )
+            .1,
+        )
+    };
+    let noise = obscura::DepthNoise {
+        quadratic: 0.003,
+        ..obscura::DepthNoise::NONE
+    };
+    for mode in AoMode::ALL {
+        let (with, without) = (
+            mean_ao(mode, noise),
+            mean_ao(mode, obscura::DepthNoise::NONE),
+        );
+        assert!(
+            with > without - 0.01,
+            "{mode:?}: mean AO {with} with a noise model, {without} without"
+        );
+    }
 }
