@@ -50,6 +50,13 @@ fn depth_sigma(d: f32) -> f32 {
     return max(frame.noise.x + (frame.noise.y + frame.noise.z * d) * d, 0.0);
 }
 
+// Tangent-plane tolerance of the depth-aware passes at linear depth `d`: PLANE_TOLERANCE of
+// the depth, and at least NOISE_TOLERANCE_SIGMAS σ of the depth noise. Mirror:
+// `FrameUniforms::plane_tolerance`.
+fn plane_tolerance(d: f32) -> f32 {
+    return max(PLANE_TOLERANCE * d, NOISE_TOLERANCE_SIGMAS * depth_sigma(d));
+}
+
 // The depth terraces' step at linear depth `d` (DepthNoise::step; 0 for rendered depth).
 // Mirror: `FrameUniforms::depth_step`.
 fn depth_step(d: f32) -> f32 {

@@ -35,7 +35,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let n = centre.yzw;
         let inv_tol = 1.0 / max(
             min(PLANE_TOLERANCE * centre.x, DENOISE_RADIUS_TOLERANCE * frame.radius),
-            DENOISE_NOISE_SIGMAS * depth_sigma(centre.x),
+            NOISE_TOLERANCE_SIGMAS * depth_sigma(centre.x),
         );
         let r = i32(PERIOD / 2u);
         let size = vec2<i32>(frame.size);

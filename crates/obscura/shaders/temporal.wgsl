@@ -39,7 +39,7 @@ fn reprojected(pos: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
     let px = vec2<f32>(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / frame.inv_size;
     let base = floor(px - 0.5);
     let f = px - 0.5 - base;
-    let tol = PLANE_TOLERANCE * depth;
+    let tol = plane_tolerance(depth);
     let size = vec2<i32>(frame.size);
     var sum = vec2<f32>(0.0);
     var total = 0.0;

@@ -1,7 +1,7 @@
 // Joint bilateral upsampling (Yang et al., "Geometry-Aware Framebuffer Level of Detail",
 // EGSR 2008; seed 002): bilinear weight x depth weight x normal weight per footprint texel,
 //   depth:  exp(-(distance of the texel from this pixel's tangent plane /
-//           (PLANE_TOLERANCE x depth))^2),
+//           plane_tolerance(depth))^2),
 //   normal: max(n_low . n, 0)^8 (halves at 25 degrees).
 // The normal weight is what makes it better than bilinear away from edges too: a low texel
 // stands for one child's face, and a pixel on a face turned another way takes its AO from
@@ -17,7 +17,7 @@ fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
         if fp.low[i].x <= 0.0 {
             continue;
         }
-        let z = abs(dot(fp.pos[i] - pos, n)) / (PLANE_TOLERANCE * d);
+        let z = abs(dot(fp.pos[i] - pos, n)) / plane_tolerance(d);
         let c = max(dot(fp.low[i].yzw, n), 0.0);
         let c2 = c * c;
         let c4 = c2 * c2;

@@ -1,6 +1,6 @@
 // Classified upsampling (seed 004): the 2x2 footprint is a *surface* when
 //  - every low-resolution normal is within 25 degrees of their mean (the seed's normal test),
-//  - this pixel lies within PLANE_TOLERANCE x depth of every texel's tangent plane (catches
+//  - this pixel lies within plane_tolerance(depth) of every texel's tangent plane (catches
 //    parallel surfaces at different depths, whose normals agree), and
 //  - no texel's own footprint spans more than DEPTH_RANGE_TOLERANCE of its depth in the
 //    min/max depth pyramid (its one depth stands for an edge inside it);
@@ -10,10 +10,10 @@
 
 const COS_25_DEG: f32 = 0.9063078;
 
-// Distance of this pixel's surface point `pos` (linear depth `d`) from the tangent plane of
-// footprint texel `i`, relative to `d`: small when the pixel lies on that texel's surface.
-fn plane_distance(fp: Footprint, i: u32, pos: vec3<f32>, d: f32) -> f32 {
-    return abs(dot(pos - fp.pos[i], fp.low[i].yzw)) / d;
+// Distance of this pixel's surface point `pos` from the tangent plane of footprint texel
+// `i`: small when the pixel lies on that texel's surface.
+fn plane_distance(fp: Footprint, i: u32, pos: vec3<f32>) -> f32 {
+    return abs(dot(pos - fp.pos[i], fp.low[i].yzw));
 }
 
 fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
@@ -30,7 +30,7 @@ fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
             continue;
         }
         mean += low.yzw;
-        if plane_distance(fp, i, pos, d) > PLANE_TOLERANCE {
+        if plane_distance(fp, i, pos) > plane_tolerance(d) {
             surface = false;
         }
         let range = textureLoad(pyramid, min(fp.texel[i], psize - 1), mip).yz;

@@ -768,7 +768,7 @@ pub fn upsample(
     low_prepared: &[Vec4],
     pyramid: &[PyramidLevel],
 ) -> Vec<f32> {
-    use crate::shader::{DEPTH_RANGE_TOLERANCE, PLANE_TOLERANCE};
+    use crate::shader::DEPTH_RANGE_TOLERANCE;
     use crate::Upsampler as U;
     let fac = f.up_factor as f32;
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
@@ -821,8 +821,8 @@ pub fn upsample(
                 }
                 best.map_or(bilinear, |i| ao[i])
             };
-            // This pixel's distance from texel i's tangent plane, relative to its depth.
-            let plane = |i: usize| (pos - lpos[i]).dot(ln(i)).abs() / d;
+            // This pixel's distance from texel i's tangent plane.
+            let plane = |i: usize| (pos - lpos[i]).dot(ln(i)).abs();
             out.push(match upsampler {
                 U::Bilinear => bilinear,
                 U::NearestDepth => nearest(),
@@ -838,7 +838,7 @@ pub fn upsample(
                             continue;
                         }
                         mean += ln(i);
-                        if plane(i) > PLANE_TOLERANCE {
+                        if plane(i) > f.plane_tolerance(d) {
                             surface = false;
                         }
                         if let Some(l) = level {
@@ -868,7 +868,7 @@ pub fn upsample(
                         if low[i].x <= 0.0 {
                             continue;
                         }
-                        let z = (lpos[i] - pos).dot(n).abs() / (PLANE_TOLERANCE * d);
+                        let z = (lpos[i] - pos).dot(n).abs() / f.plane_tolerance(d);
                         let cs = ln(i).dot(n).max(0.0);
                         let wgt = wts[i] * (-z * z).exp() * cs.powi(8);
                         sum += wgt * ao[i];
@@ -890,7 +890,7 @@ pub fn upsample(
 /// `prepared` its prepared values per pixel, `period` the pattern period 2 or 4); mirrors
 /// shaders/denoise.wgsl.
 pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) -> Vec<f32> {
-    use crate::shader::{DENOISE_NOISE_SIGMAS, DENOISE_RADIUS_TOLERANCE, PLANE_TOLERANCE};
+    use crate::shader::{DENOISE_RADIUS_TOLERANCE, NOISE_TOLERANCE_SIGMAS, PLANE_TOLERANCE};
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let r = (period / 2) as i32;
@@ -906,7 +906,7 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
             let n = Vec3::new(c.y, c.z, c.w);
             let tol = (PLANE_TOLERANCE * c.x)
                 .min(DENOISE_RADIUS_TOLERANCE * f.radius)
-                .max(DENOISE_NOISE_SIGMAS * f.depth_sigma(c.x));
+                .max(NOISE_TOLERANCE_SIGMAS * f.depth_sigma(c.x));
             let (mut sum, mut total) = (0.0, 0.0);
             for dy in -r..=r {
                 for dx in -r..=r {
@@ -944,7 +944,6 @@ pub fn temporal(
     ao: &[f32],
     history: &[Vec4],
 ) -> (Vec<Vec4>, Vec<f32>) {
-    use crate::shader::PLANE_TOLERANCE;
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let m = glam::Mat4::from_cols_array_2d(&f.prev_from_view);
@@ -975,7 +974,7 @@ pub fn temporal(
                 continue;
             }
             let q = f.view_position_scaled(centre(t), hv.z, f.prev_ndc_to_view);
-            if (q - prev).dot(prev_n).abs() >= PLANE_TOLERANCE * depth {
+            if (q - prev).dot(prev_n).abs() >= f.plane_tolerance(depth) {
                 continue;
             }
             let wx = if o[0] == 1 { fr.x } else { 1.0 - fr.x };

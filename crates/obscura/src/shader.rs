@@ -20,7 +20,8 @@ pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Flo
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
-/// the denoiser, temporal reprojection): a sample farther than this fraction of the depth from the centre's tangent
+/// the denoiser, temporal reprojection): a sample farther than this fraction of the depth
+/// (or [`NOISE_TOLERANCE_SIGMAS`] σ of the depth noise, if more) from the centre's tangent
 /// plane is on another surface. 2%: well above the depth change across a few pixels of a
 /// surface at 80° to the view (~1%), well below the gap between stacked objects.
 pub const PLANE_TOLERANCE: f32 = 0.02;
@@ -42,8 +43,10 @@ pub const SPHERE_THICKNESS: f32 = 2.0;
 /// limit (GTAO high, 2×2 deinterleaved, mean RMSE against ray-traced AO 0.0609, 0.0609,
 /// 0.0613, 0.0619).
 pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
-/// ... and at least this many σ of the depth noise ([`crate::DepthNoise`]).
-pub const DENOISE_NOISE_SIGMAS: f32 = 2.0;
+/// Every depth-aware pass's tangent-plane tolerance (the upsamplers, temporal reprojection,
+/// the denoiser) is at least this many σ of the depth noise ([`crate::DepthNoise`]), so
+/// noise does not read as an edge (common.wgsl, `plane_tolerance`).
+pub const NOISE_TOLERANCE_SIGMAS: f32 = 2.0;
 /// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth, 0)`.
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
@@ -484,7 +487,7 @@ pub fn prelude() -> String {
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
          const DENOISE_RADIUS_TOLERANCE: f32 = {DENOISE_RADIUS_TOLERANCE:?};\n\
-         const DENOISE_NOISE_SIGMAS: f32 = {DENOISE_NOISE_SIGMAS:?};\n\
+         const NOISE_TOLERANCE_SIGMAS: f32 = {NOISE_TOLERANCE_SIGMAS:?};\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
          const ACOS_POLY: array<f32, 4> = array<f32, 4>({});\n\

@@ -226,6 +226,13 @@ impl FrameUniforms {
         (self.noise[0] + (self.noise[1] + self.noise[2] * d) * d).max(0.0)
     }
 
+    /// Tangent-plane tolerance of the depth-aware passes at linear depth `d`; mirrors
+    /// `plane_tolerance` in shaders/common.wgsl.
+    pub fn plane_tolerance(&self, d: f32) -> f32 {
+        (crate::shader::PLANE_TOLERANCE * d)
+            .max(crate::shader::NOISE_TOLERANCE_SIGMAS * self.depth_sigma(d))
+    }
+
     /// The depth terraces' step at linear depth `d`; mirrors `depth_step` in
     /// shaders/common.wgsl.
     pub fn depth_step(&self, d: f32) -> f32 {

@@ -1301,17 +1301,28 @@ fn downsample_rules_on_hand_made_blocks() {
 
 /// Half and quarter resolution on odd sizes: the downsampled levels equal the CPU's bit for
 /// bit for every rule, and every upsampler's output matches its CPU mirror run on the GPU's
-/// own working-resolution AO.
+/// own working-resolution AO; for clean depth, and with a depth noise model whose 2σ
+/// exceeds 2% of the depth (the upsamplers' tangent-plane tolerance, `plane_tolerance`).
 #[test]
 fn mixed_resolution_matches_cpu_reference() {
     let _g = lock();
-    let params = AoParams {
+    let clean = AoParams {
         radius: 1.5,
         ..Default::default()
     };
+    let noisy = AoParams {
+        depth_noise: obscura::DepthNoise {
+            constant: 0.06,
+            ..obscura::DepthNoise::NONE
+        },
+        ..clean
+    };
     let p = persp(W, H);
     let raw = test_scene(&p, W, H);
-    for resolution in [Resolution::Half, Resolution::Quarter] {
+    for (params, resolution) in [clean, noisy]
+        .into_iter()
+        .flat_map(|a| [(a, Resolution::Half), (a, Resolution::Quarter)])
+    {
         for rule in DepthDownsample::ALL {
             for upsampler in Upsampler::ALL {
                 let options = AoOptions {
@@ -1323,7 +1334,10 @@ fn mixed_resolution_matches_cpu_reference() {
                     denoise: Denoise::None,
                     ..Default::default()
                 };
-                let what = format!("{resolution:?} {rule:?} {upsampler:?}");
+                let what = format!(
+                    "{resolution:?} {rule:?} {upsampler:?} {:?}",
+                    params.depth_noise
+                );
                 let run = |options| {
                     run_ao(
                         &raw,
@@ -1339,19 +1353,23 @@ fn mixed_resolution_matches_cpu_reference() {
                 // Unfused, for the full-resolution prepared buffer the CPU starts from.
                 let r = run(options);
                 // Fused: the prepare pass writes level 1 and linear depth itself; the
-                // result is the unfused one bit for bit.
-                let fused = run(AoOptions {
-                    fused: true,
-                    ..options
-                });
-                if upsampler == Upsampler::Bilateral {
-                    assert_eq!(fused.prepared, r.prepared, "{what}: fused full resolution");
-                } else {
-                    let depth: Vec<f32> = r.prepared.iter().map(|v| v.x).collect();
-                    assert_eq!(fused.linear_depth, depth, "{what}: fused linear depth");
+                // result is the unfused one bit for bit. Not with a noise model: for the
+                // upsamplers but the bilateral one, the fused pass stores the given depth at
+                // full resolution, not the plane-fitted one (a known gap, docs/depth-noise.md).
+                if params.depth_noise.is_none() {
+                    let fused = run(AoOptions {
+                        fused: true,
+                        ..options
+                    });
+                    if upsampler == Upsampler::Bilateral {
+                        assert_eq!(fused.prepared, r.prepared, "{what}: fused full resolution");
+                    } else {
+                        let depth: Vec<f32> = r.prepared.iter().map(|v| v.x).collect();
+                        assert_eq!(fused.linear_depth, depth, "{what}: fused linear depth");
+                    }
+                    assert_eq!(fused.levels, r.levels, "{what}: fused levels");
+                    assert_eq!(fused.ao, r.ao, "{what}: fused AO");
                 }
-                assert_eq!(fused.levels, r.levels, "{what}: fused levels");
-                assert_eq!(fused.ao, r.ao, "{what}: fused AO");
                 let mut size = [W, H];
                 let mut level = r.prepared.clone();
                 for (k, gpu) in r.levels.iter().enumerate() {
