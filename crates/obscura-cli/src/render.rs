@@ -292,8 +292,10 @@ pub struct RenderArgs {
     /// The depth map's noise σ(z), which obscura fits planes over and does not read as
     /// occlusion: `auto` (estimated from the map's local plane-fit residuals, none when they
     /// are below 0.02 pixel footprints; integer maps at least their quantisation, step /
-    /// √12), `none`, `kinect` (structured light, 1.5 mm · z² with z in metres: use with
-    /// depth in metres), or `C,L,Q` for σ = C + L·z + Q·z² in scene units.
+    /// √12, and the depth terraces they show, which the fit spans), `none`, `kinect`
+    /// (structured light, 1.5 mm · z² with z in metres: use with depth in metres), or
+    /// `C,L,Q` for σ = C + L·z + Q·z² in scene units. `kinect` and `C,L,Q` on an integer
+    /// map also take its unit (the depth scale) as the terraces' step.
     #[arg(
         long,
         value_name = "MODEL",

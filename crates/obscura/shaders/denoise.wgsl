@@ -10,7 +10,8 @@
 // Each tap is further weighted by
 //   plane:  exp(-(z / tolerance)^2), z the larger of the tap's distance from the centre's
 //           tangent plane and the centre's from the tap's (a crease fails one of the two),
-//           tolerance = min(PLANE_TOLERANCE x depth, DENOISE_RADIUS_TOLERANCE x radius):
+//           tolerance = min(PLANE_TOLERANCE x depth, DENOISE_RADIUS_TOLERANCE x radius),
+//           at least NOISE_TOLERANCE_SIGMAS x σ of the depth noise:
 //           AO changes over the scale of the AO radius, so points farther apart than a
 //           fraction of it across the surface do not share AO;
 //   normal: max(n_tap . n, 0)^8 (halves at 25 degrees), as the bilateral upsampler.

@@ -4,7 +4,7 @@
 //     (frame.prev_from_view) and projected with the previous projection;
 //  2. the history (vec4(AO, frames accumulated, linear depth, 0)) read bilinearly there,
 //     each of the four texels kept only if its surface point lies within
-//     PLANE_TOLERANCE x depth of this pixel's tangent plane (else it was another surface:
+//     plane_tolerance(depth) of this pixel's tangent plane (else it was another surface:
 //     disocclusion), the weights renormalised;
 //  3. the history AO clamped to the min/max of this frame's raw AO over the 3×3
 //     neighbourhood, which spans every sampling pattern of a 2×2 tile (Karis 2014's

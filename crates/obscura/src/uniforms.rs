@@ -58,7 +58,8 @@ crate::gpu_struct! {
         /// Most frames the history averages ([`crate::AoOptions::history`]).
         pub history_max: f32,
         /// Depth noise σ(d) = noise.x + noise.y · d + noise.z · d², clamped at 0
-        /// ([`crate::AoParams::depth_noise`]); w unused (keeps `patterns` 16-byte aligned).
+        /// ([`crate::AoParams::depth_noise`]); w unused (keeps the next field 16-byte
+        /// aligned).
         pub noise: [f32; 4],
         /// The depth terraces' step max(x, y · d²) ([`crate::DepthNoise::step`]); zw unused.
         pub noise_step: [f32; 4],
