@@ -606,19 +606,23 @@ fn real_depth_maps_render_and_bad_ones_fail() {
         );
     }
     let redwood = format!("{shared}/redwood/redwood_depth_mm.png");
-    let out = obscura(&[
-        "render",
-        "--depth",
-        &redwood,
-        "--intrinsics",
-        &format!("{data}/redwood.json"),
-        "--resolution",
-        "half",
-        "--depth-noise",
-        "none",
-        "--out",
-        s(&ao),
-    ]);
+    let intrinsics = format!("{data}/redwood.json");
+    let render_redwood = |extra: &[&str], out: &Path| {
+        let mut args = vec![
+            "render",
+            "--depth",
+            &redwood,
+            "--intrinsics",
+            &intrinsics,
+            "--resolution",
+            "half",
+            "--out",
+            s(out),
+        ];
+        args.extend_from_slice(extra);
+        obscura(&args)
+    };
+    let out = render_redwood(&["--depth-noise", "none"], &ao);
     assert!(
         out.status.success(),
         "{}",
@@ -629,17 +633,7 @@ fn real_depth_maps_render_and_bad_ones_fail() {
     // Redwood's sensor noise read as occlusion darkens the walls; with the noise model
     // estimated from the map (the default) it reads brighter (mostly open walls and floor).
     let ao_k = d.join("ao_estimated.png");
-    let out = obscura(&[
-        "render",
-        "--depth",
-        &redwood,
-        "--intrinsics",
-        &format!("{data}/redwood.json"),
-        "--resolution",
-        "half",
-        "--out",
-        s(&ao_k),
-    ]);
+    let out = render_redwood(&[], &ao_k);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         out.status.success() && err.contains("depth noise σ") && err.contains("estimated"),
