@@ -3,11 +3,6 @@
 const CHILD_NORMALS: bool = true;
 @group(0) @binding(4) var full_out: texture_storage_2d<rgba32float, write>;
 
-fn store_child(c: vec2<i32>, d: f32) -> vec4<f32> {
-    var v = vec4<f32>(0.0, 0.0, 0.0, 1.0);
-    if d > 0.0 {
-        v = surface(c, d);
-    }
+fn store_child(c: vec2<i32>, v: vec4<f32>) {
     textureStore(full_out, c, v);
-    return v;
 }
