@@ -5,28 +5,22 @@
 //! float maps are in scene units already (Open3D's convention), so one intrinsics file
 //! serves both encodings of the same data.
 //!
-//! obscura's projections are centred, and a camera's principal point rarely is: the depth is
-//! padded with missing pixels until (cx, cy) sits at the centre (sky never occludes, so the
-//! padding changes nothing), and the AO is cropped back to the input size.
+//! This file decodes files; the rules (scale, missing data, padding to centre the
+//! principal point, the default radius) are the library's one depth-map path,
+//! `obscura::depth_map`.
 
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
-/// Pinhole intrinsics (OpenCV convention: integer pixel coordinates at pixel centres).
+/// Pinhole intrinsics as the JSON file gives them: the camera and the depth scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Intrinsics {
-    pub fx: f32,
-    pub fy: f32,
-    pub cx: f32,
-    pub cy: f32,
-    pub width: u32,
-    pub height: u32,
+    pub camera: obscura::Intrinsics,
     /// Scene units (metres) per stored depth unit, e.g. 0.001 for millimetres.
     pub depth_scale: f32,
 }
 
-/// Largest depth map accepted, per side (the AO still checks the adapter's limit).
-const MAX_SIDE: u32 = 16384;
+use obscura::depth_map::MAX_SIDE;
 
 impl Intrinsics {
     /// Parses `{"fx":…, "fy":…, "cx":…, "cy":…, "width":…, "height":…, "depth_scale":…}`;
@@ -46,90 +40,33 @@ impl Intrinsics {
             }
             Ok(x as u32)
         };
-        let i = Intrinsics {
+        let camera = obscura::Intrinsics {
             fx: num("fx")? as f32,
             fy: num("fy")? as f32,
             cx: num("cx")? as f32,
             cy: num("cy")? as f32,
             width: dim("width")?,
             height: dim("height")?,
-            depth_scale: match v.get("depth_scale") {
-                None => 0.001,
-                Some(s) => s
-                    .as_f64()
-                    .context("intrinsics `depth_scale` is not a number")?
-                    as f32,
-            },
         };
-        for (k, x) in [("fx", i.fx), ("fy", i.fy), ("depth_scale", i.depth_scale)] {
-            if !(x.is_finite() && x > 0.0) {
-                bail!("intrinsics `{k}` = {x} must be finite and > 0");
-            }
+        camera.validate()?;
+        let depth_scale = match v.get("depth_scale") {
+            None => 0.001,
+            Some(s) => s
+                .as_f64()
+                .context("intrinsics `depth_scale` is not a number")? as f32,
+        };
+        if !(depth_scale.is_finite() && depth_scale > 0.0) {
+            bail!("intrinsics `depth_scale` = {depth_scale} must be finite and > 0");
         }
-        // The principal point must lie in the image (with a pixel of slack).
-        let inside = |c: f32, size: u32| c.is_finite() && c >= -1.0 && c <= size as f32;
-        if !(inside(i.cx, i.width) && inside(i.cy, i.height)) {
-            bail!(
-                "intrinsics principal point ({}, {}) lies outside the {}x{} image",
-                i.cx,
-                i.cy,
-                i.width,
-                i.height
-            );
-        }
-        Ok(i)
+        Ok(Intrinsics {
+            camera,
+            depth_scale,
+        })
     }
-
-    /// Padding (left, top, right, bottom) that centres the principal point, and the
-    /// centred projection of the padded image.
-    pub fn centred(&self, near: f32, far: f32) -> ([u32; 4], obscura::Projection) {
-        // Pixel centre u has continuous coordinate u + 0.5; the principal point is at
-        // cx + 0.5. Padding l left and r right centres it when cx + 0.5 + l = (w + l + r) / 2.
-        let pad = |c: f32, n: u32| -> (u32, u32) {
-            let twice = 2.0 * (c + 0.5) - n as f32; // = r - l
-            if twice >= 0.0 {
-                (0, twice.round() as u32)
-            } else {
-                ((-twice).round() as u32, 0)
-            }
-        };
-        let (l, r) = pad(self.cx, self.width);
-        let (t, b) = pad(self.cy, self.height);
-        let (w, h) = ((self.width + l + r) as f32, (self.height + t + b) as f32);
-        let projection = obscura::Projection::Perspective {
-            fov_y: 2.0 * (h / (2.0 * self.fy)).atan(),
-            aspect: (w / (2.0 * self.fx)) / (h / (2.0 * self.fy)),
-            near,
-            far,
-        };
-        ([l, t, r, b], projection)
-    }
-}
-
-/// A depth map in scene units, row-major; 0 = missing.
-pub struct DepthMap {
-    pub width: u32,
-    pub height: u32,
-    pub depth: Vec<f32>,
-    /// Stored as integers (the depth scale was applied) rather than floats.
-    pub integer: bool,
 }
 
 /// Decoded values before scaling: width, height, row-major values, stored as integers.
 type Decoded = (u32, u32, Vec<f32>, bool);
-
-/// `values` (rows of `width`) inside an image of zeros (missing data) with `pad` = [left,
-/// top, right, bottom] pixels around them.
-fn pad_rows<T: Copy + Default>(values: &[T], width: u32, pad: [u32; 4]) -> Vec<T> {
-    let height = (values.len() / width as usize) as u32;
-    let pw = width + pad[0] + pad[2];
-    let mut padded = vec![T::default(); (pw * (height + pad[1] + pad[3])) as usize];
-    for (y, row) in values.chunks_exact(width as usize).enumerate() {
-        let start = ((y as u32 + pad[1]) * pw + pad[0]) as usize;
-        padded[start..start + row.len()].copy_from_slice(row);
-    }
-    padded
-}
 
 /// A file's lower-case extension and its bytes (`what` names it in the error).
 fn read_file(path: &Path, what: &str) -> Result<(String, Vec<u8>)> {
@@ -144,8 +81,8 @@ fn read_file(path: &Path, what: &str) -> Result<(String, Vec<u8>)> {
 }
 
 /// Loads a depth map by extension (.png 16-bit, .exr, .npy); integer data is multiplied by
-/// `scale`, float data is taken as scene units.
-pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
+/// `scale`, float data is taken as scene units (`obscura::DepthMap`).
+pub fn load(path: &Path, scale: f32) -> Result<obscura::DepthMap> {
     let (ext, bytes) = read_file(path, "depth")?;
     let (width, height, raw, integer) = match ext.as_str() {
         "png" | "exr" => decode_image(&bytes, &ext)?,
@@ -155,23 +92,10 @@ pub fn load(path: &Path, scale: f32) -> Result<DepthMap> {
             path.display()
         ),
     };
-    let scale = if integer { scale } else { 1.0 };
-    let depth = raw
-        .into_iter()
-        .map(|d| {
-            let d = d * scale;
-            if d.is_finite() && d > 0.0 {
-                d
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    Ok(DepthMap {
-        width,
-        height,
-        depth,
-        integer,
+    Ok(if integer {
+        obscura::DepthMap::from_integer(width, height, raw, scale)?
+    } else {
+        obscura::DepthMap::from_float(width, height, raw)?
     })
 }
 
@@ -345,7 +269,7 @@ fn half_to_f32(h: u16) -> f32 {
 /// for stderr. `estimate` runs the estimate (`auto`) on the padded linear depth.
 fn noise_model(
     arg: &str,
-    map: &DepthMap,
+    map: &obscura::depth_map::Framed,
     scale: f32,
     estimate: impl FnOnce() -> obscura::Result<obscura::NoiseEstimate>,
 ) -> Result<(obscura::DepthNoise, String)> {
@@ -377,7 +301,7 @@ fn noise_model(
         "none" => DepthNoise::NONE,
         "kinect" => DepthNoise {
             quadratic: 0.0015,
-            ..if map.integer {
+            ..if map.quantum.is_some() {
                 quantisation()
             } else {
                 DepthNoise::NONE
@@ -397,7 +321,7 @@ fn noise_model(
                 constant,
                 linear,
                 quadratic,
-                step_constant: if map.integer { scale } else { 0.0 },
+                step_constant: if map.quantum.is_some() { scale } else { 0.0 },
                 step_quadratic: 0.0,
             }
         }
@@ -492,48 +416,26 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         .with_context(|| format!("intrinsics `{}`", intrinsics.display()))?;
     let map = load(depth_path, k.depth_scale)
         .with_context(|| format!("depth `{}`", depth_path.display()))?;
-    if (map.width, map.height) != (k.width, k.height) {
-        bail!(
-            "the depth map is {}x{} but the intrinsics say {}x{}",
-            map.width,
-            map.height,
-            k.width,
-            k.height
-        );
-    }
-    if !map.integer && k.depth_scale != 1.0 {
+    if !map.is_integer() && k.depth_scale != 1.0 {
         eprintln!(
             "depth: float values are taken as scene units; the intrinsics' depth_scale {} \
              applies to integer maps only",
             k.depth_scale
         );
     }
-    let points = back_project(&map, &k);
-    if points.is_empty() {
-        bail!("the depth map has no valid depth (every value is 0, NaN or infinite)");
-    }
-    let valid = points.len();
-    // The default radius is 3% of the diagonal of the valid points' bounds, the rule used
-    // for meshes, with the bounds taken between the 1st and 99th percentiles per axis so a
-    // few outliers (sensor spikes, 1e30 fill values) do not set it.
-    let (lo, hi) = percentile_bounds(&points, 0.01, 0.99);
-    let radius = a.radius.unwrap_or(0.03 * (hi - lo).length());
-    let (zmin, zmax) = points
-        .iter()
-        .fold((f32::MAX, 0.0f32), |(a, b), p| (a.min(p.z), b.max(p.z)));
-    let (pad, projection) = k.centred(0.5 * zmin, (2.0 * zmax).min(f32::MAX));
-    let (pw, ph) = (map.width + pad[0] + pad[2], map.height + pad[1] + pad[3]);
-    let padded = pad_rows(&map.depth, map.width, pad);
-    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &map, k.depth_scale, || {
-        let quantum = map.integer.then_some(k.depth_scale);
-        obscura::DepthNoise::estimate(&padded, pw, ph, &projection, quantum)
+    let framed = map.frame(&k.camera)?;
+    let radius = a.radius.unwrap_or(framed.default_radius);
+    let [pw, ph] = framed.padded_size;
+    let [zmin, zmax] = framed.depth_range;
+    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &framed, k.depth_scale, || {
+        framed.estimate_noise()
     })?;
     eprintln!(
         "depth: {}x{} ({:.0}% valid), depth {:.3}..{:.3}, padded to {pw}x{ph} to centre the \
          principal point; loaded in {:.0} ms",
         map.width,
         map.height,
-        100.0 * valid as f64 / map.depth.len() as f64,
+        100.0 * framed.valid as f64 / map.depth.len() as f64,
         zmin,
         zmax,
         t0.elapsed().as_secs_f64() * 1e3
@@ -557,13 +459,13 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
                     String::new()
                 }
             );
-            Some(pad_rows(&n, map.width, pad))
+            Some(framed.pad(&n)?)
         }
         None => None,
     };
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
-    let tex = ctx.upload_r32("depth map", &padded, pw, ph);
+    let tex = ctx.upload_r32("depth map", &framed.depth, pw, ph);
     let normal_tex = normals.map(|n| ctx.upload_rgba32("normal map", &n, pw, ph));
     let normal_view = normal_tex.map(|t| t.create_view(&Default::default()));
     let view = tex.create_view(&Default::default());
@@ -576,7 +478,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     let input = AoInput {
         depth: &view,
         convention: DepthConvention::LinearView,
-        projection,
+        projection: framed.projection,
         normals: normal_view
             .as_ref()
             .map(|v| (v, obscura::NormalEncoding::ViewSigned)),
@@ -590,46 +492,11 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         options.samples_per_pixel(),
     );
     let out = crate::render::record_timed(a, &ctx, &mut ao, &input, &params)?;
-    let cropped: Vec<f32> = (0..map.height)
-        .flat_map(|y| {
-            let row = ((y + pad[1]) * pw + pad[0]) as usize;
-            out[row..row + map.width as usize].to_vec()
-        })
-        .collect();
+    let cropped = framed.crop(&out);
     crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
-}
-
-/// The valid pixels' view-space points (x right, y down, z the depth: the camera's frame).
-fn back_project(map: &DepthMap, k: &Intrinsics) -> Vec<glam::Vec3> {
-    map.depth
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| **d > 0.0)
-        .map(|(i, &d)| {
-            let (u, v) = ((i as u32 % map.width) as f32, (i as u32 / map.width) as f32);
-            glam::Vec3::new((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d)
-        })
-        .collect()
-}
-
-/// Per axis, the values below which fractions `lo` and `hi` of the points lie (nearest
-/// rank), as two corners.
-fn percentile_bounds(points: &[glam::Vec3], lo: f32, hi: f32) -> (glam::Vec3, glam::Vec3) {
-    let (mut a, mut b) = ([0.0f32; 3], [0.0f32; 3]);
-    let mut axis: Vec<f32> = Vec::with_capacity(points.len());
-    let rank = |q: f32, n: usize| ((q * (n - 1) as f32).round() as usize).min(n - 1);
-    for k in 0..3 {
-        axis.clear();
-        axis.extend(points.iter().map(|p| p[k]));
-        let (i, j) = (rank(lo, axis.len()), rank(hi, axis.len()));
-        a[k] = *axis.select_nth_unstable_by(i, f32::total_cmp).1;
-        // After the first selection everything from i on is >= a[k]: select j within it.
-        b[k] = *axis[i..].select_nth_unstable_by(j - i, f32::total_cmp).1;
-    }
-    (glam::Vec3::from(a), glam::Vec3::from(b))
 }
 
 #[cfg(test)]
@@ -779,7 +646,7 @@ mod tests {
         std::fs::write(&ff, npy(2, 2, &metres)).unwrap();
         let a = load(&fu, 0.001).unwrap();
         let b = load(&ff, 0.001).unwrap();
-        assert!(a.integer && !b.integer);
+        assert!(a.is_integer() && !b.is_integer());
         for (x, y) in a.depth.iter().zip(&b.depth) {
             assert!((x - y).abs() <= 1e-6, "{:?} vs {:?}", a.depth, b.depth);
         }
@@ -794,7 +661,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(k.depth_scale, 0.001);
-        let ([l, t, r, b], p) = k.centred(0.1, 10.0);
+        let ([l, t, r, b], p) = k.camera.centred(0.1, 10.0);
         // cx + 0.5 = 100 = width / 2: no horizontal padding; cy + 0.5 = 40.5 needs
         // 100 - 2 * 40.5 = 19 rows on top.
         assert_eq!((l, r, t, b), (0, 0, 19, 0));

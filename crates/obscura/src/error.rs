@@ -43,6 +43,9 @@ pub enum Error {
         format: wgpu::TextureFormat,
         expected: &'static str,
     },
+    /// A depth map or its intrinsics cannot be used (see [`crate::depth_map`]).
+    #[error("{0}")]
+    InvalidDepthMap(String),
     /// wgpu reported a validation or internal error while recording or running obscura's work.
     #[error("GPU error: {0}")]
     Gpu(String),

@@ -27,6 +27,7 @@
 
 pub mod ao;
 pub mod context;
+pub mod depth_map;
 pub mod error;
 pub mod fuzz;
 pub mod gpu_struct;
@@ -41,6 +42,7 @@ pub mod uniforms;
 
 pub use ao::{Ao, AoInput, ResourceCount, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
+pub use depth_map::{DepthMap, Intrinsics};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
 pub use noise::{NoiseBin, NoiseEstimate};
