@@ -265,89 +265,7 @@ fn half_to_f32(h: u16) -> f32 {
     }
 }
 
-/// The depth noise model `--depth-noise` names for `map` (see its help), and a description
-/// for stderr. `estimate` runs the estimate (`auto`) on the padded linear depth.
-fn noise_model(
-    arg: &str,
-    map: &obscura::depth_map::Framed,
-    scale: f32,
-    estimate: impl FnOnce() -> obscura::Result<obscura::NoiseEstimate>,
-) -> Result<(obscura::DepthNoise, String)> {
-    use obscura::DepthNoise;
-    let quantisation = || DepthNoise {
-        constant: scale / 12f32.sqrt(),
-        step_constant: scale,
-        ..DepthNoise::NONE
-    };
-    let model = match arg.trim() {
-        "auto" => {
-            let e = estimate()?;
-            let model = e.model;
-            let found = if model.is_none() {
-                format!(
-                    "none (estimated: σ at most {:.3} pixel footprints)",
-                    e.sigma_px
-                )
-            } else {
-                format!(
-                    "{} (estimated from {} depth bins; σ up to {:.2} pixel footprints)",
-                    describe_noise(&model),
-                    e.bins.len(),
-                    e.sigma_px
-                )
-            };
-            return Ok((model, found));
-        }
-        "none" => DepthNoise::NONE,
-        "kinect" => DepthNoise {
-            quadratic: 0.0015,
-            ..if map.quantum.is_some() {
-                quantisation()
-            } else {
-                DepthNoise::NONE
-            }
-        },
-        other => {
-            let v = crate::render::parse_floats(other, "--depth-noise").with_context(|| {
-                format!("--depth-noise `{other}`: expected auto, none, kinect or C,L,Q")
-            })?;
-            let [constant, linear, quadratic] = v[..] else {
-                bail!(
-                    "--depth-noise needs 3 numbers C,L,Q (σ = C + L·z + Q·z²), got {}",
-                    v.len()
-                );
-            };
-            DepthNoise {
-                constant,
-                linear,
-                quadratic,
-                step_constant: if map.quantum.is_some() { scale } else { 0.0 },
-                step_quadratic: 0.0,
-            }
-        }
-    };
-    Ok((model, format!("{} ({arg})", describe_noise(&model))))
-}
-
-/// A noise model as stderr states it.
-pub fn describe_noise(model: &obscura::DepthNoise) -> String {
-    if model.is_none() {
-        "none (clean depth)".to_string()
-    } else {
-        let steps = match (model.step_constant > 0.0, model.step_quadratic > 0.0) {
-            (_, true) => format!(
-                ", terraces of max({:.3e}, {:.3e}·z²)",
-                model.step_constant, model.step_quadratic
-            ),
-            (true, false) => format!(", terraces of {:.3e}", model.step_constant),
-            _ => String::new(),
-        };
-        format!(
-            "σ = {:.3e} + {:.3e}·z + {:.3e}·z²{steps}",
-            model.constant, model.linear, model.quadratic
-        )
-    }
-}
+pub use obscura::depth_map::describe_noise;
 
 /// `--normals-file`: a (height, width, 3 or 4) float `.npy` or an RGB(A) float EXR of
 /// view-space normals in `frame`, `width` × `height`; returned in obscura's view space as
@@ -427,9 +345,8 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     let radius = a.radius.unwrap_or(framed.default_radius);
     let [pw, ph] = framed.padded_size;
     let [zmin, zmax] = framed.depth_range;
-    let (depth_noise, noise_text) = noise_model(&a.depth_noise, &framed, k.depth_scale, || {
-        framed.estimate_noise()
-    })?;
+    let (depth_noise, noise_text) =
+        obscura::depth_map::noise_model(&a.depth_noise, &framed).context("--depth-noise")?;
     eprintln!(
         "depth: {}x{} ({:.0}% valid), depth {:.3}..{:.3}, padded to {pw}x{ph} to centre the \
          principal point; loaded in {:.0} ms",

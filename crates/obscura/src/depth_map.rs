@@ -15,7 +15,7 @@
 //!   for meshes), the bounds taken between the 1st and 99th percentiles per axis so a few
 //!   outliers (sensor spikes, 1e30 fill values) do not set it.
 
-use crate::{Error, NoiseEstimate, Projection, Result};
+use crate::{DepthNoise, Error, NoiseEstimate, Projection, Result};
 
 /// Largest depth map accepted, per side (the AO still checks the adapter's limit).
 pub const MAX_SIDE: u32 = 16384;
@@ -255,6 +255,215 @@ impl Framed {
     pub fn estimate_noise(&self) -> Result<NoiseEstimate> {
         let [w, h] = self.padded_size;
         crate::DepthNoise::estimate(&self.depth, w, h, &self.projection, self.quantum)
+    }
+}
+
+/// AO of depth maps on one device: the passes compiled once and the input textures kept
+/// across maps of the same size, the loop a batch tool or the Python package runs.
+#[derive(Debug)]
+pub struct Renderer {
+    ao: crate::Ao,
+    /// The depth and normal textures of the last size, with their views.
+    depth: Option<(wgpu::Texture, wgpu::TextureView)>,
+    normals: Option<(wgpu::Texture, wgpu::TextureView)>,
+}
+
+/// `slot`'s texture refilled with `bytes`, or a new one where the size or format differs.
+fn refill<'a>(
+    slot: &'a mut Option<(wgpu::Texture, wgpu::TextureView)>,
+    ctx: &crate::GpuContext,
+    label: &str,
+    bytes: &[u8],
+    [width, height]: [u32; 2],
+    format: wgpu::TextureFormat,
+) -> &'a wgpu::TextureView {
+    let fits =
+        |t: &wgpu::Texture| t.width() == width && t.height() == height && t.format() == format;
+    match slot {
+        Some((tex, _)) if fits(tex) => {
+            let texel = format.block_copy_size(None).unwrap_or(4);
+            ctx.queue.write_texture(
+                tex.as_image_copy(),
+                bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(texel * width),
+                    rows_per_image: Some(height),
+                },
+                tex.size(),
+            );
+        }
+        _ => {
+            let tex = ctx.upload(label, bytes, width, height, format);
+            let view = tex.create_view(&Default::default());
+            *slot = Some((tex, view));
+        }
+    }
+    &slot.as_ref().expect("filled above").1
+}
+
+impl Renderer {
+    /// Compiles the passes for `options` on `ctx`'s device.
+    pub fn new(ctx: &crate::GpuContext, options: crate::AoOptions) -> Result<Self> {
+        Ok(Renderer {
+            ao: crate::Ao::new(&ctx.device, options)?,
+            depth: None,
+            normals: None,
+        })
+    }
+
+    /// The options the passes were compiled for.
+    pub fn options(&self) -> &crate::AoOptions {
+        self.ao.options()
+    }
+
+    /// The AO of `framed` at its own size (row-major, 1 = unoccluded). `normals`: view-space
+    /// normals in obscura's frame (x right, y up, z towards the camera), padded like the
+    /// depth ([`Framed::pad`]), or `None` to reconstruct them from depth. `frames` > 1
+    /// accumulates a still camera (with [`crate::AoOptions::history`] > 0); the history
+    /// starts anew each call.
+    pub fn render(
+        &mut self,
+        ctx: &crate::GpuContext,
+        framed: &Framed,
+        normals: Option<&[[f32; 4]]>,
+        params: &crate::AoParams,
+        frames: u32,
+    ) -> Result<Vec<f32>> {
+        let size = framed.padded_size;
+        let depth = refill(
+            &mut self.depth,
+            ctx,
+            "depth map",
+            bytemuck::cast_slice(&framed.depth),
+            size,
+            wgpu::TextureFormat::R32Float,
+        );
+        let normals = match normals {
+            Some(n) => {
+                if n.len() != framed.depth.len() {
+                    return Err(invalid(format!(
+                        "{} normals given for a {}x{} padded depth map",
+                        n.len(),
+                        size[0],
+                        size[1]
+                    )));
+                }
+                Some(refill(
+                    &mut self.normals,
+                    ctx,
+                    "normal map",
+                    bytemuck::cast_slice(n),
+                    size,
+                    wgpu::TextureFormat::Rgba32Float,
+                ))
+            }
+            None => None,
+        };
+        let input = crate::AoInput {
+            depth,
+            convention: crate::DepthConvention::LinearView,
+            projection: framed.projection,
+            normals: normals.map(|v| (v, crate::NormalEncoding::ViewSigned)),
+            viewport: None,
+            output: None,
+        };
+        self.ao.validate(&input, params)?;
+        self.ao.reset_history();
+        for _ in 0..frames.max(1) {
+            ctx.run(|enc| self.ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
+        }
+        let out = self
+            .ao
+            .output()
+            .ok_or_else(|| Error::Gpu("no AO output after a frame".into()))?;
+        Ok(framed.crop(&ctx.read_f32(out)?))
+    }
+}
+
+/// The depth noise model a front end names for `framed` (the CLI's `--depth-noise`, the
+/// Python package's `depth_noise`), and a description for the user:
+/// - `auto`: estimated from the map ([`Framed::estimate_noise`]);
+/// - `none`: clean depth;
+/// - `kinect`: σ = 1.5 mm·z² in metres (a structured-light sensor), plus the encoding's
+///   terraces for an integer map;
+/// - `C,L,Q`: σ = C + L·z + Q·z² in scene units, plus the terraces for an integer map.
+pub fn noise_model(spec: &str, framed: &Framed) -> Result<(DepthNoise, String)> {
+    let step = framed.quantum.unwrap_or(0.0);
+    let model = match spec.trim() {
+        "auto" => {
+            let e = framed.estimate_noise()?;
+            let found = if e.model.is_none() {
+                format!(
+                    "none (estimated: σ at most {:.3} pixel footprints)",
+                    e.sigma_px
+                )
+            } else {
+                format!(
+                    "{} (estimated from {} depth bins; σ up to {:.2} pixel footprints)",
+                    describe_noise(&e.model),
+                    e.bins.len(),
+                    e.sigma_px
+                )
+            };
+            return Ok((e.model, found));
+        }
+        "none" => DepthNoise::NONE,
+        "kinect" => DepthNoise {
+            quadratic: 0.0015,
+            // An integer encoding's quantisation: σ = step / √12 and its terraces.
+            constant: step / 12f32.sqrt(),
+            step_constant: step,
+            ..DepthNoise::NONE
+        },
+        other => {
+            let expected = "expected auto, none, kinect or C,L,Q (σ = C + L·z + Q·z²)";
+            let v: Vec<f32> = other
+                .split(',')
+                .map(|t| t.trim().parse::<f32>())
+                .collect::<std::result::Result<_, _>>()
+                .map_err(|_| invalid(format!("depth noise `{other}`: {expected}")))?;
+            let [constant, linear, quadratic] = v[..] else {
+                return Err(invalid(format!(
+                    "depth noise `{other}` needs 3 numbers C,L,Q (σ = C + L·z + Q·z²), got {}",
+                    v.len()
+                )));
+            };
+            let model = DepthNoise {
+                constant,
+                linear,
+                quadratic,
+                step_constant: step,
+                step_quadratic: 0.0,
+            };
+            crate::AoParams {
+                depth_noise: model,
+                ..Default::default()
+            }
+            .validate()?;
+            model
+        }
+    };
+    Ok((model, format!("{} ({spec})", describe_noise(&model))))
+}
+
+/// A noise model as the user reads it.
+pub fn describe_noise(model: &DepthNoise) -> String {
+    if model.is_none() {
+        "none (clean depth)".to_string()
+    } else {
+        let steps = match (model.step_constant > 0.0, model.step_quadratic > 0.0) {
+            (_, true) => format!(
+                ", terraces of max({:.3e}, {:.3e}·z²)",
+                model.step_constant, model.step_quadratic
+            ),
+            (true, false) => format!(", terraces of {:.3e}", model.step_constant),
+            _ => String::new(),
+        };
+        format!(
+            "σ = {:.3e} + {:.3e}·z + {:.3e}·z²{steps}",
+            model.constant, model.linear, model.quadratic
+        )
     }
 }
 

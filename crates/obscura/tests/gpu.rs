@@ -2709,3 +2709,58 @@ fn gtao_centre_is_not_its_own_occluder() {
         );
     }
 }
+
+/// The library's depth-map path on the GPU (`obscura::depth_map::Renderer`, what the
+/// Python package runs): an off-centre principal point is padded and cropped back, a
+/// fronto-parallel wall is unoccluded, a 90° valley darkens at its crease, and the input
+/// texture kept between maps of one size is refilled, never stale.
+#[test]
+fn depth_map_renderer_pads_crops_and_refills() {
+    use obscura::depth_map::{DepthMap, Intrinsics, Renderer};
+    let _g = lock();
+    let (w, h) = (48u32, 36u32);
+    let k = Intrinsics {
+        fx: 48.0,
+        fy: 48.0,
+        cx: 20.3,
+        cy: 14.8,
+        width: w,
+        height: h,
+    };
+    // View depth d = 3 - |X|, X = (u - cx) / fx · d: walls at 45° meeting at u = cx.
+    let valley: Vec<f32> = (0..w * h)
+        .map(|i| 3.0 / (1.0 + ((i % w) as f32 - k.cx).abs() / k.fx))
+        .collect();
+    let frame = |depth: Vec<f32>| {
+        DepthMap::from_float(w, h, depth)
+            .unwrap()
+            .frame(&k)
+            .unwrap()
+    };
+    let (wall, valley) = (frame(vec![2.0; (w * h) as usize]), frame(valley));
+    assert_ne!(wall.pad, [0; 4], "the principal point is off-centre");
+    let mut r = Renderer::new(ctx(), AoOptions::default()).unwrap();
+    let params = AoParams {
+        radius: 0.3,
+        ..Default::default()
+    };
+    let at = |ao: &[f32], u: u32| {
+        (4..h - 4).map(|y| ao[(y * w + u) as usize]).sum::<f32>() / (h - 8) as f32
+    };
+    let first = r.render(ctx(), &valley, None, &params, 1).unwrap();
+    assert_eq!(first.len(), (w * h) as usize);
+    let crease = at(&first, 20);
+    let walls = (at(&first, 3) + at(&first, 44)) / 2.0;
+    assert!(
+        crease < walls - 0.1,
+        "crease {crease} against walls {walls}"
+    );
+    let flat = r.render(ctx(), &wall, None, &params, 1).unwrap();
+    assert!(
+        flat.iter().all(|&a| a > 0.98),
+        "{:?}",
+        flat.iter().cloned().fold(1.0, f32::min)
+    );
+    let again = r.render(ctx(), &valley, None, &params, 1).unwrap();
+    assert_eq!(first, again);
+}

@@ -1,0 +1,87 @@
+"""Screen-space ambient occlusion of depth maps, on any GPU wgpu reaches or on the CPU
+(lavapipe). Depth in, AO out (float32, 1 = unoccluded); the same rules and messages as
+`obscura render --depth`."""
+
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+DepthNoise = Union[str, Tuple[float, float, float], Sequence[float], None]
+
+class DeviceError(RuntimeError):
+    """No usable GPU or software adapter, or the device failed (out of memory, lost)."""
+
+def ambient_occlusion(
+    depth: npt.NDArray[Union[np.float16, np.float32, np.float64, np.uint16]],
+    *,
+    fx: float,
+    fy: float,
+    cx: float,
+    cy: float,
+    radius: Optional[float] = None,
+    normals: Optional[npt.NDArray[np.floating]] = None,
+    normals_frame: str = "opencv",
+    depth_scale: Optional[float] = None,
+    depth_noise: DepthNoise = None,
+    estimator: str = "gtao",
+    preset: str = "high",
+    resolution: str = "full",
+    denoise: str = "spatial",
+    frames: int = 1,
+) -> npt.NDArray[np.float32]:
+    """Ambient occlusion of a depth map: a float32 (height, width) array, 1 = unoccluded.
+
+    depth: (height, width), float16/32/64 in scene units (metres) or uint16 in depth
+        units times `depth_scale`; 0, NaN and inf are missing. Any order or strides.
+    fx, fy, cx, cy: pinhole intrinsics in pixels (OpenCV: pixel centres at integers).
+    radius: AO radius in scene units; default 3% of the diagonal of the scene's bounds
+        (1st to 99th percentile).
+    normals: (height, width, 3) float view-space normals in `normals_frame`: "opencv"
+        (x right, y down, z into the scene) or "opengl" (y up, z towards the viewer).
+    depth_scale: scene units per depth unit; default 0.001 for uint16, 1 for floats.
+    depth_noise: "auto" (estimated from the map; the default), "none", "kinect"
+        (sigma = 1.5 mm z^2), or (C, L, Q): sigma(z) = C + L z + Q z^2 in scene units.
+    estimator: "gtao", "hbao", "vo", "vao" or "sao".
+    preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel).
+    resolution: "full", "half" or "quarter".
+    denoise: "spatial", "none", "box" or "tent".
+    frames: still-camera frames accumulated (1: one frame).
+
+    Creates a device and compiles the passes on each call; use `Renderer` in loops.
+    Raises ValueError on bad input, DeviceError when no adapter can be used.
+    """
+
+class Renderer:
+    """One device and one set of compiled passes for many depth maps."""
+
+    def __init__(
+        self,
+        *,
+        estimator: str = "gtao",
+        preset: str = "high",
+        resolution: str = "full",
+        denoise: str = "spatial",
+        frames: int = 1,
+    ) -> None: ...
+    @property
+    def adapter(self) -> str:
+        """The adapter's name, type and driver."""
+    def render(
+        self,
+        depth: npt.NDArray[Union[np.float16, np.float32, np.float64, np.uint16]],
+        *,
+        fx: float,
+        fy: float,
+        cx: float,
+        cy: float,
+        radius: Optional[float] = None,
+        normals: Optional[npt.NDArray[np.floating]] = None,
+        normals_frame: str = "opencv",
+        depth_scale: Optional[float] = None,
+        depth_noise: DepthNoise = None,
+    ) -> npt.NDArray[np.float32]:
+        """The AO of one depth map; arguments as `ambient_occlusion`. Releases the GIL
+        while the device works."""

@@ -1,0 +1,207 @@
+"""Tests of the Python package against analytic answers, the CLI's float output and the
+shared depth maps (../shared beside the repository, as for the Rust tests)."""
+
+import os
+import pathlib
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+import obscura
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared" / "depth"
+MOTO = SHARED / "middlebury2014_motorcycle" / "depth_mm.png"
+MOTO_K = dict(fx=994.978, fy=994.978, cx=311.193, cy=254.877)  # data/intrinsics/
+REDWOOD = SHARED / "redwood" / "redwood_depth_mm.png"
+REDWOOD_K = dict(fx=525.0, fy=525.0, cx=319.5, cy=239.5)
+
+
+def png16(path):
+    from PIL import Image
+
+    with Image.open(path) as im:
+        return np.array(im, dtype=np.uint16)
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    return obscura.Renderer()
+
+
+def plane(size=128, depth=2.0):
+    return np.full((size, size), depth, np.float32)
+
+
+def valley(size=128, far=3.0):
+    """Two walls at 45 degrees to the view meeting in a 90-degree crease at the centre
+    column: view depth d = far - |X|, X = (u - cx) / fx * d."""
+    t = np.abs((np.arange(size) - (size - 1) / 2) / size)
+    row = far / (1.0 + t)
+    return np.tile(row.astype(np.float32), (size, 1))
+
+
+def centred(size=128):
+    return dict(fx=float(size), fy=float(size), cx=(size - 1) / 2, cy=(size - 1) / 2)
+
+
+def test_a_plane_is_unoccluded_and_a_crease_darkens(renderer):
+    k = centred()
+    ao_plane = renderer.render(plane(), **k, radius=0.2)
+    assert ao_plane.dtype == np.float32 and ao_plane.shape == (128, 128)
+    assert ao_plane.mean() > 0.99, ao_plane.mean()
+    ao = renderer.render(valley(), **k, radius=0.2)
+    crease = ao[16:-16, 60:68].mean()
+    open_walls = np.concatenate([ao[16:-16, 8:24], ao[16:-16, -24:-8]]).mean()
+    # A 90-degree crease sees half of the hemisphere's cosine-weighted sky at its line;
+    # walls a radius away see all of it.
+    assert crease < open_walls - 0.1, (crease, open_walls)
+    assert open_walls > 0.95, open_walls
+
+
+def test_dtypes_orders_and_strides_give_the_same_ao(renderer):
+    k = centred()
+    d = valley()
+    want = renderer.render(d, **k, radius=0.2, depth_noise="none")
+    for variant in [
+        d.astype(np.float64),
+        np.asfortranarray(d),
+        np.asfortranarray(d.astype(np.float64)),
+        np.repeat(d, 2, axis=1)[:, ::2],  # a strided view
+    ]:
+        got = renderer.render(variant, **k, radius=0.2, depth_noise="none")
+        np.testing.assert_array_equal(got, want)
+    # float16 rounds the depth; the AO stays close.
+    got = renderer.render(d.astype(np.float16), **k, radius=0.2, depth_noise="none")
+    assert np.abs(got - want).mean() < 0.01
+    # uint16 millimetres with the default scale are the same metres.
+    mm = np.round(d * 1000).astype(np.uint16)
+    got = renderer.render(mm, **k, radius=0.2, depth_noise="none")
+    # (the library scales in float32: units × 0.001)
+    metres = mm.astype(np.float32) * np.float32(0.001)
+    np.testing.assert_array_equal(got, renderer.render(metres, **k, radius=0.2, depth_noise="none"))
+
+
+def test_given_normals_are_used():
+    k = centred()
+    # Normals of a wall facing the camera, in OpenCV axes (z into the scene: -1).
+    n = np.zeros((128, 128, 3), np.float32)
+    n[..., 2] = -1.0
+    ao = obscura.ambient_occlusion(plane(), **k, normals=n, radius=0.2)
+    assert ao.mean() > 0.99
+    # The same normals read in OpenGL axes face away: a different, wrong picture.
+    wrong = obscura.ambient_occlusion(plane(), **k, normals=n, normals_frame="opengl", radius=0.2)
+    assert np.abs(wrong - ao).max() > 0.05
+
+
+def cli():
+    for build in ["release", "debug"]:
+        exe = ROOT / "target" / build / "obscura"
+        if exe.exists():
+            return exe
+    subprocess.run(["cargo", "build", "-p", "obscura-cli", "--locked"], cwd=ROOT, check=True)
+    return ROOT / "target" / "debug" / "obscura"
+
+
+def test_middlebury_equals_the_cli_float_output(renderer):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = pathlib.Path(tmp) / "moto.npy"
+        subprocess.run(
+            [
+                str(cli()), "render", "--depth", str(MOTO),
+                "--intrinsics", str(ROOT / "data" / "intrinsics" / "middlebury2014_motorcycle.json"),
+                "--runs", "1", "--out", str(out),
+            ],
+            check=True,
+            env=dict(os.environ, NODEVICE_SELECT="1"),
+            capture_output=True,
+        )
+        want = np.load(out)
+    got = renderer.render(png16(MOTO), **MOTO_K)
+    assert got.shape == want.shape == (500, 741)
+    assert np.abs(got - want).max() <= 1e-6
+
+
+@pytest.mark.parametrize("path,k", [(MOTO, MOTO_K), (REDWOOD, REDWOOD_K)])
+def test_shared_depth_maps_round_trip(renderer, path, k):
+    depth = png16(path)
+    ao = renderer.render(depth, **k)
+    assert ao.shape == depth.shape and ao.dtype == np.float32
+    assert np.isfinite(ao).all() and ao.min() >= 0.0 and ao.max() <= 1.0
+    valid = depth > 0
+    # Real rooms and objects have creases: some AO, not everywhere.
+    assert 0.5 < ao[valid].mean() < 0.999
+    assert (ao[~valid] == 1.0).all()
+
+
+@pytest.mark.parametrize(
+    "depth,k,says",
+    [
+        (np.full((8, 8), np.nan, np.float32), centred(8), "no valid depth"),
+        (np.zeros((0, 5), np.float32), centred(5), "each side must be in"),
+        (np.ones((8, 8, 2), np.float32), centred(8), "2-D"),
+        (np.ones((8, 8), np.int32), centred(8), "not supported"),
+        ([[1.0, 2.0], [3.0, 4.0]], centred(2), "numpy array"),
+        (np.ones((8, 8), np.float32), dict(centred(8), cx=100.0), "outside"),
+        (np.ones((8, 8), np.float32), dict(centred(8), fx=0.0), "fx"),
+    ],
+)
+def test_bad_input_raises_value_error(renderer, depth, k, says):
+    with pytest.raises(ValueError, match=says):
+        renderer.render(depth, **k)
+    with pytest.raises(ValueError, match=says):
+        obscura.ambient_occlusion(depth, **k)
+
+
+def test_bad_options_and_normals_raise_value_error(renderer):
+    k = centred(8)
+    d = np.ones((8, 8), np.float32)
+    with pytest.raises(ValueError, match="the normals are 7x8 but the depth map is 8x8"):
+        renderer.render(d, **k, normals=np.zeros((8, 7, 3), np.float32))
+    with pytest.raises(ValueError, match="normals_frame"):
+        renderer.render(d, **k, normals=np.zeros((8, 8, 3), np.float32), normals_frame="up")
+    with pytest.raises(ValueError, match="3 numbers"):
+        renderer.render(d, **k, depth_noise=(1.0, 2.0))
+    with pytest.raises(ValueError, match="expected auto, none, kinect"):
+        renderer.render(d, **k, depth_noise="loud")
+    with pytest.raises(ValueError, match="radius"):
+        renderer.render(d, **k, radius=-1.0)
+    with pytest.raises(ValueError, match="depth_scale"):
+        renderer.render(d, **k, depth_scale=0.0)
+    for bad in [dict(estimator="ssao"), dict(preset="max"), dict(resolution="double"), dict(frames=0)]:
+        with pytest.raises(ValueError):
+            obscura.Renderer(**bad)
+
+
+def test_no_adapter_is_a_device_error():
+    old = os.environ.get("OBSCURA_ADAPTER")
+    os.environ["OBSCURA_ADAPTER"] = "no-such-adapter-anywhere"
+    try:
+        with pytest.raises(obscura.DeviceError):
+            obscura.Renderer()
+    finally:
+        if old is None:
+            del os.environ["OBSCURA_ADAPTER"]
+        else:
+            os.environ["OBSCURA_ADAPTER"] = old
+    assert issubclass(obscura.DeviceError, RuntimeError)
+
+
+def rss_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def test_a_thousand_calls_hold_memory_flat(renderer):
+    k = centred(64)
+    d = valley(64)
+    for _ in range(100):
+        renderer.render(d, **k, radius=0.2)
+    before = rss_bytes()
+    for _ in range(1000):
+        renderer.render(d, **k, radius=0.2)
+    grown = rss_bytes() - before
+    # A leak of one 64x64 float AO image per call alone would be 16 MB.
+    assert grown < 8 << 20, f"resident memory grew {grown / 2**20:.1f} MiB over 1000 calls"
