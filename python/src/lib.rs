@@ -100,7 +100,7 @@ fn depth_values(py: Python<'_>, depth: &Bound<'_, PyAny>) -> PyResult<(u32, u32,
         ("u", 2) => true,
         _ => {
             return Err(value_error(format!(
-                "depth dtype {} is not supported: float16, float32, float64 or uint16",
+                "depth dtype {} is not supported (float64, float32, float16 or uint16)",
                 dtype.str()?
             )))
         }

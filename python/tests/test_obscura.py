@@ -189,6 +189,33 @@ def test_no_adapter_is_a_device_error():
     assert issubclass(obscura.DeviceError, RuntimeError)
 
 
+def spin_while(thread):
+    """Turns of a busy loop in this thread while `thread` runs, and the seconds it ran."""
+    import time
+
+    spins, start = 0, time.perf_counter()
+    thread.start()
+    while thread.is_alive():
+        spins += 1
+    thread.join()
+    return spins, time.perf_counter() - start
+
+
+def test_the_gil_is_released_while_the_device_works(renderer):
+    import threading
+    import time
+
+    depth = png16(REDWOOD)
+    # The busy loop's rate beside a thread that holds no GIL (sleeping)...
+    free, free_s = spin_while(threading.Thread(target=time.sleep, args=(0.3,)))
+    # ...and beside three renders (about a second here). A render that held the GIL would
+    # let this thread run only between the worker's bytecodes (a switch interval each).
+    busy, busy_s = spin_while(
+        threading.Thread(target=lambda: [renderer.render(depth, **REDWOOD_K) for _ in range(3)])
+    )
+    assert busy / busy_s > 0.3 * free / free_s, (busy / busy_s, free / free_s)
+
+
 def rss_bytes():
     with open("/proc/self/statm") as f:
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
