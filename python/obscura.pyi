@@ -39,16 +39,19 @@ def ambient_occlusion(
     fx, fy, cx, cy: pinhole intrinsics in pixels (OpenCV: pixel centres at integers).
     radius: AO radius in scene units; default 3% of the diagonal of the scene's bounds
         (1st to 99th percentile).
-    normals: (height, width, 3) float view-space normals in `normals_frame`: "opencv"
+    normals: (height, width, 3 or 4) float view-space normals in `normals_frame`: "opencv"
         (x right, y down, z into the scene) or "opengl" (y up, z towards the viewer).
-    depth_scale: scene units per depth unit; default 0.001 for uint16, 1 for floats.
+    depth_scale: scene units per depth unit; default 0.001 for uint16 (millimetres),
+        none for floats (scene units already), and a scale given applies to floats too.
     depth_noise: "auto" (estimated from the map; the default), "none", "kinect"
-        (sigma = 1.5 mm z^2), or (C, L, Q): sigma(z) = C + L z + Q z^2 in scene units.
+        (sigma = 1.5 mm z^2), or (C, L, Q): sigma(z) = C + L z + Q z^2 in scene units;
+        "kinect" and (C, L, Q) add a uint16 map's quantisation terraces.
     estimator: "gtao", "hbao", "vo", "vao" or "sao".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel).
     resolution: "full", "half" or "quarter".
     denoise: "spatial", "none", "box" or "tent".
-    frames: still-camera frames accumulated (1: one frame).
+    frames: still-camera frames accumulated, 1..=100000 (1: one frame); each call starts
+        the accumulation anew, so the same map gives the same AO.
 
     Creates a device and compiles the passes on each call; use `Renderer` in loops.
     Raises ValueError on bad input, DeviceError when no adapter can be used.

@@ -60,6 +60,11 @@ def main():
         progress(i, len(maps), started, path.name)
         try:
             depth = load_depth(path)
+            if depth.shape != (k["height"], k["width"]):
+                raise ValueError(
+                    f"the depth map is {depth.shape[1]}x{depth.shape[0]} but the intrinsics say "
+                    f"{k['width']}x{k['height']}"
+                )
             # As `obscura render --depth`: the depth scale applies to integer maps only.
             scale = k.get("depth_scale", 0.001) if depth.dtype == np.uint16 else None
             ao = renderer.render(

@@ -52,16 +52,21 @@ fn preset_name(p: Preset) -> &'static str {
     }
 }
 
+/// The most frames `render --frames` accumulates.
+const MAX_FRAMES: i64 = 100_000;
+
 /// The options `render --depth` uses for the same choices.
 fn options(
     estimator: &str,
     preset: &str,
     resolution: &str,
     denoise: &str,
-    frames: u32,
+    frames: i64,
 ) -> PyResult<AoOptions> {
-    if frames == 0 {
-        return Err(value_error("frames must be at least 1".into()));
+    if !(1..=MAX_FRAMES).contains(&frames) {
+        return Err(value_error(format!(
+            "frames = {frames} must be in 1..={MAX_FRAMES}"
+        )));
     }
     let estimator = named("estimator", &Estimator::ALL, Estimator::name, estimator)?;
     let preset = named("preset", &Preset::ALL, preset_name, preset)?;
@@ -105,12 +110,6 @@ fn depth_values(py: Python<'_>, depth: &Bound<'_, PyAny>) -> PyResult<(u32, u32,
             )))
         }
     };
-    let max = depth_map::MAX_SIDE as usize;
-    if w == 0 || h == 0 || w > max || h > max {
-        return Err(value_error(format!(
-            "depth map is {w}x{h}; each side must be in 1..={max}"
-        )));
-    }
     // Any order or strides: numpy makes a C-ordered float32 copy (exact for uint16).
     let c = np.call_method1("ascontiguousarray", (depth, "float32"))?;
     let a: PyReadonlyArray2<f32> = c.extract()?;
@@ -121,8 +120,8 @@ fn depth_values(py: Python<'_>, depth: &Bound<'_, PyAny>) -> PyResult<(u32, u32,
     Ok((w as u32, h as u32, values, integer))
 }
 
-/// (height, width, 3) view-space normals in `frame` as obscura's RGBA rows (zero where a
-/// normal is missing or not finite), as `render --normals-file` reads them.
+/// (height, width, 3 or 4) view-space normals in `frame` as obscura's RGBA rows, as
+/// `render --normals-file` reads them (`depth_map::view_normals`).
 fn normal_values(
     py: Python<'_>,
     normals: &Bound<'_, PyAny>,
@@ -130,9 +129,9 @@ fn normal_values(
     h: u32,
     frame: &str,
 ) -> PyResult<Vec<[f32; 4]>> {
-    let flip = match frame {
-        "opencv" => -1.0,
-        "opengl" => 1.0,
+    let frame = match frame {
+        "opencv" => depth_map::NormalsFrame::OpenCv,
+        "opengl" => depth_map::NormalsFrame::OpenGl,
         other => {
             return Err(value_error(format!(
                 "normals_frame `{other}`: expected opencv or opengl"
@@ -140,10 +139,16 @@ fn normal_values(
         }
     };
     let np = py.import("numpy")?;
-    let shape: Vec<usize> = normals.getattr("shape")?.extract()?;
-    let [nh, nw, 3] = shape[..] else {
+    if !normals.is_instance(&np.getattr("ndarray")?)? {
         return Err(value_error(format!(
-            "normals have shape {shape:?}; normals are (height, width, 3)"
+            "normals must be a numpy array, got {}",
+            normals.get_type().name()?
+        )));
+    }
+    let shape: Vec<usize> = normals.getattr("shape")?.extract()?;
+    let [nh, nw, channels @ (3 | 4)] = shape[..] else {
+        return Err(value_error(format!(
+            "normals have shape {shape:?}; normals are (height, width, 3) or (height, width, 4)"
         )));
     };
     if (nw as u32, nh as u32) != (w, h) {
@@ -160,17 +165,7 @@ fn normal_values(
     let values = a
         .as_slice()
         .map_err(|e| value_error(format!("normals: {e}")))?;
-    Ok(values
-        .chunks_exact(3)
-        .map(|c| {
-            let n = [c[0], flip * c[1], flip * c[2]];
-            if !n.iter().all(|v| v.is_finite()) || n == [0.0; 3] {
-                [0.0; 4]
-            } else {
-                [n[0], n[1], n[2], 0.0]
-            }
-        })
-        .collect())
+    Ok(depth_map::view_normals(values, channels, frame).0)
 }
 
 /// `depth_noise` as the library's model name: None = "auto", a string, or (C, L, Q).
@@ -289,9 +284,10 @@ impl Renderer {
         preset: &str,
         resolution: &str,
         denoise: &str,
-        frames: u32,
+        frames: i64,
     ) -> PyResult<Self> {
         let o = options(estimator, preset, resolution, denoise, frames)?;
+        let frames = frames as u32; // checked: 1..=MAX_FRAMES
         py.detach(|| {
             let ctx = GpuContext::new()?;
             let inner = depth_map::Renderer::new(&ctx, o)?;
@@ -333,6 +329,14 @@ impl Renderer {
             depth_scale,
             depth_noise,
         )?;
+        self.run(py, &job)
+    }
+}
+
+impl Renderer {
+    /// The AO of a prepared job as a (height, width) float32 array; the GIL is released
+    /// while the device works.
+    fn run<'py>(&mut self, py: Python<'py>, job: &Job) -> PyResult<Bound<'py, PyAny>> {
         let frames = self.frames;
         let (ctx, inner) = (&self.ctx, &mut self.inner);
         let ao = py
@@ -359,10 +363,10 @@ impl Renderer {
 ///     fx, fy, cx, cy: pinhole intrinsics in pixels (OpenCV convention: pixel centres at
 ///         integer coordinates).
 ///     radius: AO radius in scene units; default 3% of the scene's extent.
-///     normals: optional (height, width, 3) float view-space normals in `normals_frame`
+///     normals: optional (height, width, 3 or 4) float view-space normals in `normals_frame`
 ///         ("opencv": x right, y down, z into the scene; "opengl": y up, z towards the viewer).
 ///     depth_scale: scene units per depth unit; default 0.001 for uint16 (millimetres to
-///         metres), 1 for floats.
+///         metres), none for floats (scene units already); a scale given applies to both.
 ///     depth_noise: "auto" (default: estimated from the map), "none", "kinect", or
 ///         (C, L, Q) for sigma(z) = C + L z + Q z^2 in scene units.
 ///     estimator, preset, resolution, denoise, frames: as `Renderer`.
@@ -370,7 +374,7 @@ impl Renderer {
 /// Creates a device and compiles the passes on every call: use `Renderer` in loops.
 ///
 /// Raises:
-///     ValueError: bad input (the same messages as `obscura render --depth`).
+///     ValueError: bad input (the library's messages, as `obscura render --depth` prints them).
 ///     DeviceError: no adapter could be opened, or the device failed.
 #[pyfunction]
 #[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, estimator="gtao", preset="high", resolution="full", denoise="spatial", frames=1))]
@@ -391,11 +395,11 @@ fn ambient_occlusion<'py>(
     preset: &str,
     resolution: &str,
     denoise: &str,
-    frames: u32,
+    frames: i64,
 ) -> PyResult<Bound<'py, PyAny>> {
     // Input first, so bad input is a ValueError even without a device.
     options(estimator, preset, resolution, denoise, frames)?;
-    job(
+    let job = job(
         py,
         depth,
         (fx, fy, cx, cy),
@@ -405,20 +409,7 @@ fn ambient_occlusion<'py>(
         depth_scale,
         depth_noise,
     )?;
-    let mut r = Renderer::new(py, estimator, preset, resolution, denoise, frames)?;
-    r.render(
-        py,
-        depth,
-        fx,
-        fy,
-        cx,
-        cy,
-        radius,
-        normals,
-        normals_frame,
-        depth_scale,
-        depth_noise,
-    )
+    Renderer::new(py, estimator, preset, resolution, denoise, frames)?.run(py, &job)
 }
 
 #[pymodule]

@@ -84,6 +84,16 @@ def test_dtypes_orders_and_strides_give_the_same_ao(renderer):
     np.testing.assert_array_equal(got, renderer.render(metres, **k, radius=0.2, depth_noise="none"))
 
 
+def test_accumulated_frames_are_reproducible():
+    k = centred()
+    r = obscura.Renderer(frames=4)
+    first = r.render(valley(), **k, radius=0.2)
+    np.testing.assert_array_equal(r.render(valley(), **k, radius=0.2), first)
+    # Four rotated frames differ from one.
+    one = obscura.Renderer().render(valley(), **k, radius=0.2)
+    assert np.abs(first - one).max() > 1e-4
+
+
 def test_given_normals_are_used():
     k = centred()
     # Normals of a wall facing the camera, in OpenCV axes (z into the scene: -1).
@@ -91,16 +101,19 @@ def test_given_normals_are_used():
     n[..., 2] = -1.0
     ao = obscura.ambient_occlusion(plane(), **k, normals=n, radius=0.2)
     assert ao.mean() > 0.99
+    # A fourth channel, as the CLI's normal maps may have, is ignored.
+    n4 = np.concatenate([n, np.full((128, 128, 1), 7.0, np.float32)], axis=2)
+    np.testing.assert_array_equal(obscura.ambient_occlusion(plane(), **k, normals=n4, radius=0.2), ao)
     # The same normals read in OpenGL axes face away: a different, wrong picture.
     wrong = obscura.ambient_occlusion(plane(), **k, normals=n, normals_frame="opengl", radius=0.2)
     assert np.abs(wrong - ao).max() > 0.05
 
 
 def cli():
-    for build in ["release", "debug"]:
-        exe = ROOT / "target" / build / "obscura"
-        if exe.exists():
-            return exe
+    """The CLI of this checkout: $OBSCURA_CLI (CI sets it to the binary its tests built),
+    else built here (a no-op when up to date), so it is never a stale one."""
+    if os.environ.get("OBSCURA_CLI"):
+        return pathlib.Path(os.environ["OBSCURA_CLI"])
     subprocess.run(["cargo", "build", "-p", "obscura-cli", "--locked"], cwd=ROOT, check=True)
     return ROOT / "target" / "debug" / "obscura"
 
@@ -170,7 +183,13 @@ def test_bad_options_and_normals_raise_value_error(renderer):
         renderer.render(d, **k, radius=-1.0)
     with pytest.raises(ValueError, match="depth_scale"):
         renderer.render(d, **k, depth_scale=0.0)
-    for bad in [dict(estimator="ssao"), dict(preset="max"), dict(resolution="double"), dict(frames=0)]:
+    with pytest.raises(ValueError, match="numpy array"):
+        renderer.render(d, **k, normals=[[0.0, 0.0, -1.0]] * 64)
+    bad_options = [
+        dict(estimator="ssao"), dict(preset="max"), dict(resolution="double"),
+        dict(frames=0), dict(frames=-1), dict(frames=10**6),
+    ]
+    for bad in bad_options:
         with pytest.raises(ValueError):
             obscura.Renderer(**bad)
 
@@ -213,7 +232,9 @@ def test_the_gil_is_released_while_the_device_works(renderer):
     busy, busy_s = spin_while(
         threading.Thread(target=lambda: [renderer.render(depth, **REDWOOD_K) for _ in range(3)])
     )
-    assert busy / busy_s > 0.3 * free / free_s, (busy / busy_s, free / free_s)
+    # Measured: 0.9 of the free rate beside renders, 0.007 beside a C call that holds the
+    # GIL (sum(range(...))); lavapipe's own threads share the cores, hence the margin.
+    assert busy / busy_s > 0.1 * free / free_s, (busy / busy_s, free / free_s)
 
 
 def rss_bytes():

@@ -304,24 +304,11 @@ pub fn load_normals(
     if (w, h) != (width, height) {
         bail!("the normals are {w}x{h} but the depth map is {width}x{height}");
     }
-    let flip = match frame {
-        crate::render::NormalsFrame::Opencv => -1.0,
-        crate::render::NormalsFrame::Opengl => 1.0,
+    let frame = match frame {
+        crate::render::NormalsFrame::Opencv => obscura::depth_map::NormalsFrame::OpenCv,
+        crate::render::NormalsFrame::Opengl => obscura::depth_map::NormalsFrame::OpenGl,
     };
-    let (mut given, mut away) = (0usize, 0usize);
-    let normals = values
-        .chunks_exact(channels)
-        .map(|c| {
-            let n = [c[0], flip * c[1], flip * c[2]];
-            if !n.iter().all(|v| v.is_finite()) || n == [0.0; 3] {
-                return [0.0; 4];
-            }
-            given += 1;
-            away += usize::from(n[2] < 0.0);
-            [n[0], n[1], n[2], 0.0]
-        })
-        .collect();
-    Ok((normals, away as f32 / given.max(1) as f32))
+    Ok(obscura::depth_map::view_normals(&values, channels, frame))
 }
 
 /// `obscura render --depth FILE --intrinsics JSON`.
@@ -409,7 +396,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         options.samples_per_pixel(),
     );
     let out = crate::render::record_timed(a, &ctx, &mut ao, &input, &params)?;
-    let cropped = framed.crop(&out);
+    let cropped = framed.crop(&out)?;
     crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());

@@ -513,8 +513,9 @@ pub(crate) fn record_timed(
         "ao: first run {:.1} ms (includes shader compilation)",
         first.elapsed().as_secs_f64() * 1e3
     );
-    // With temporal accumulation the warm-up frame is not part of the image.
-    ao.reset_history();
+    // With temporal accumulation the warm-up frame is not part of the image, and the frames
+    // sample as an `obscura::depth_map::Renderer` call's do.
+    ao.restart();
     let timed = if a.frames > 1 { a.frames } else { a.runs };
     let total = Instant::now();
     for _ in 0..timed {

@@ -1521,6 +1521,13 @@ impl Ao {
         self.temporal.valid = false;
     }
 
+    /// Forgets the temporal history and restarts the frame sequence, so the next frames
+    /// sample as the first ones did: accumulations that can be reproduced call by call.
+    pub fn restart(&mut self) {
+        self.temporal.valid = false;
+        self.temporal.frame = 0;
+    }
+
     /// The temporal history written by the last frame (`Rgba32Float` at the working
     /// resolution: `vec4(AO, frames accumulated (0 = sky), linear depth, 0)`), when
     /// [`AoOptions::history`] is on and a frame was recorded.

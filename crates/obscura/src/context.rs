@@ -394,18 +394,23 @@ impl GpuContext {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let texel = format.block_copy_size(None).unwrap_or(4);
+        self.write(&tex, bytes);
+        tex
+    }
+
+    /// Replaces the whole of mip 0 of `tex` with `bytes` (tightly packed rows).
+    pub fn write(&self, tex: &wgpu::Texture, bytes: &[u8]) {
+        let texel = tex.format().block_copy_size(None).unwrap_or(4);
         self.queue.write_texture(
             tex.as_image_copy(),
             bytes,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(texel * width),
-                rows_per_image: Some(height),
+                bytes_per_row: Some(texel * tex.width()),
+                rows_per_image: Some(tex.height()),
             },
             tex.size(),
         );
-        tex
     }
 
     /// Reads an `R32Float`/`Depth32Float` texture as `f32`s, or `Rgba32Float` as 4 per texel.

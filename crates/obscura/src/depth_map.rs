@@ -167,6 +167,16 @@ impl DepthMap {
     /// has valid depth.
     pub fn frame(&self, k: &Intrinsics) -> Result<Framed> {
         k.validate()?;
+        // The fields are public: check them again.
+        check_size(self.width, self.height)?;
+        if self.depth.len() != self.width as usize * self.height as usize {
+            return Err(invalid(format!(
+                "depth map has {} values for {}x{}",
+                self.depth.len(),
+                self.width,
+                self.height
+            )));
+        }
         if (self.width, self.height) != (k.width, k.height) {
             return Err(invalid(format!(
                 "the depth map is {}x{} but the intrinsics say {}x{}",
@@ -241,14 +251,20 @@ impl Framed {
     }
 
     /// A padded-size image (the AO) cropped back to the map's size.
-    pub fn crop(&self, padded: &[f32]) -> Vec<f32> {
-        let pw = self.padded_size[0];
-        (0..self.height)
+    pub fn crop(&self, padded: &[f32]) -> Result<Vec<f32>> {
+        let [pw, ph] = self.padded_size;
+        if padded.len() != pw as usize * ph as usize {
+            return Err(invalid(format!(
+                "{} values to crop from a {pw}x{ph} padded map",
+                padded.len()
+            )));
+        }
+        Ok((0..self.height)
             .flat_map(|y| {
                 let row = ((y + self.pad[1]) * pw + self.pad[0]) as usize;
                 padded[row..row + self.width as usize].iter().copied()
             })
-            .collect()
+            .collect())
     }
 
     /// The depth noise estimated from the map ([`crate::DepthNoise::estimate`]).
@@ -280,19 +296,7 @@ fn refill<'a>(
     let fits =
         |t: &wgpu::Texture| t.width() == width && t.height() == height && t.format() == format;
     match slot {
-        Some((tex, _)) if fits(tex) => {
-            let texel = format.block_copy_size(None).unwrap_or(4);
-            ctx.queue.write_texture(
-                tex.as_image_copy(),
-                bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(texel * width),
-                    rows_per_image: Some(height),
-                },
-                tex.size(),
-            );
-        }
+        Some((tex, _)) if fits(tex) => ctx.write(tex, bytes),
         _ => {
             let tex = ctx.upload(label, bytes, width, height, format);
             let view = tex.create_view(&Default::default());
@@ -320,8 +324,9 @@ impl Renderer {
     /// The AO of `framed` at its own size (row-major, 1 = unoccluded). `normals`: view-space
     /// normals in obscura's frame (x right, y up, z towards the camera), padded like the
     /// depth ([`Framed::pad`]), or `None` to reconstruct them from depth. `frames` > 1
-    /// accumulates a still camera (with [`crate::AoOptions::history`] > 0); the history
-    /// starts anew each call.
+    /// accumulates a still camera (with [`crate::AoOptions::history`] > 0); each call
+    /// starts the history and the frame sequence anew ([`crate::Ao::restart`]), so the same
+    /// map gives the same AO.
     pub fn render(
         &mut self,
         ctx: &crate::GpuContext,
@@ -369,7 +374,7 @@ impl Renderer {
             output: None,
         };
         self.ao.validate(&input, params)?;
-        self.ao.reset_history();
+        self.ao.restart();
         for _ in 0..frames.max(1) {
             ctx.run(|enc| self.ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
         }
@@ -377,8 +382,44 @@ impl Renderer {
             .ao
             .output()
             .ok_or_else(|| Error::Gpu("no AO output after a frame".into()))?;
-        Ok(framed.crop(&ctx.read_f32(out)?))
+        framed.crop(&ctx.read_f32(out)?)
     }
+}
+
+/// The axes of normals given with a depth map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NormalsFrame {
+    /// The depth camera's (OpenCV, Open3D, NYU, ScanNet, TUM): x right, y down, z into the
+    /// scene; a surface facing the camera has z < 0.
+    OpenCv,
+    /// obscura's view space (OpenGL): x right, y up, z towards the viewer.
+    OpenGl,
+}
+
+/// Normals given with a depth map (`channels` = 3 or 4 floats per pixel, row-major, in
+/// `frame`) as obscura's view-space RGBA rows for [`Renderer::render`] (before
+/// [`Framed::pad`]): zero where a normal is missing, zero or not finite. Also returns the
+/// fraction of the given normals that face away from the camera, a sign that `frame` is
+/// wrong.
+pub fn view_normals(values: &[f32], channels: usize, frame: NormalsFrame) -> (Vec<[f32; 4]>, f32) {
+    let flip = match frame {
+        NormalsFrame::OpenCv => -1.0,
+        NormalsFrame::OpenGl => 1.0,
+    };
+    let (mut given, mut away) = (0usize, 0usize);
+    let normals = values
+        .chunks_exact(channels.max(3))
+        .map(|c| {
+            let n = [c[0], flip * c[1], flip * c[2]];
+            if !n.iter().all(|v| v.is_finite()) || n == [0.0; 3] {
+                return [0.0; 4];
+            }
+            given += 1;
+            away += usize::from(n[2] < 0.0);
+            [n[0], n[1], n[2], 0.0]
+        })
+        .collect();
+    (normals, away as f32 / given.max(1) as f32)
 }
 
 /// The depth noise model a front end names for `framed` (the CLI's `--depth-noise`, the
@@ -538,7 +579,11 @@ mod tests {
         // The principal point's continuous coordinate sits at the padded centre.
         assert_eq!(2.0 * (k.cx + 0.5 + l as f32), pw as f32);
         assert_eq!(2.0 * (k.cy + 0.5 + t as f32), ph as f32);
-        assert_eq!(f.crop(&f.depth), values);
+        assert_eq!(f.crop(&f.depth).unwrap(), values);
+        assert!(
+            f.crop(&values).is_err(),
+            "an unpadded image is not the padded size"
+        );
         // The projection's focal length in pixels is fy: tan(fov/2) = (h/2) / fy.
         let Projection::Perspective { fov_y, aspect, .. } = f.projection else {
             panic!("a pinhole map gives a perspective projection");
