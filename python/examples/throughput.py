@@ -1,0 +1,55 @@
+"""Throughput of obscura.Renderer: 100 maps of a 640x480 depth map, timed one by one.
+
+    python python/examples/throughput.py [DEPTH_PNG] [--maps 100]
+
+Default map: the shared Redwood map (../shared beside the repository), uint16 millimetres
+with its published intrinsics. Needs numpy and Pillow. The numbers in BENCHMARKS.md come
+from this script.
+"""
+
+import argparse
+import pathlib
+import time
+
+import numpy as np
+from PIL import Image
+
+import obscura
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+REDWOOD = ROOT.parent / "shared" / "depth" / "redwood" / "redwood_depth_mm.png"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("depth", type=pathlib.Path, nargs="?", default=REDWOOD)
+    ap.add_argument("--maps", type=int, default=100)
+    args = ap.parse_args()
+    with Image.open(args.depth) as im:
+        depth = np.array(im).astype(np.uint16)
+    h, w = depth.shape
+    k = dict(fx=525.0, fy=525.0, cx=(w - 1) / 2, cy=(h - 1) / 2)
+
+    start = time.perf_counter()
+    obscura.ambient_occlusion(depth, **k)
+    print(f"one-shot ambient_occlusion (device, passes, one map): {time.perf_counter() - start:.2f} s")
+    for noise in ["auto", "none"]:
+        renderer = obscura.Renderer()
+        for _ in range(3):  # warm-up
+            renderer.render(depth, **k, depth_noise=noise)
+        times = []
+        start = time.perf_counter()
+        for _ in range(args.maps):
+            t = time.perf_counter()
+            renderer.render(depth, **k, depth_noise=noise)
+            times.append(time.perf_counter() - t)
+        total = time.perf_counter() - start
+        print(
+            f"depth_noise={noise!r}: {args.maps} maps of {w}x{h} in {total:.2f} s, "
+            f"{args.maps / total:.2f} maps/s, median {1e3 * np.median(times):.1f} ms per map"
+        )
+    print(f"adapter: {renderer.adapter}")
+
+
+if __name__ == "__main__":
+    main()
