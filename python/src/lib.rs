@@ -241,7 +241,7 @@ fn job(
     };
     let (depth_noise, _) =
         depth_map::noise_model(&noise_spec(depth_noise)?, &framed).map_err(to_py)?;
-    let radius = radius.unwrap_or(framed.default_radius);
+    let radius = framed.radius(radius).map_err(to_py)?;
     let params = AoParams {
         radius,
         depth_noise,

@@ -159,6 +159,7 @@ def test_shared_depth_maps_round_trip(renderer, path, k):
         ([[1.0, 2.0], [3.0, 4.0]], centred(2), "numpy array"),
         (np.ones((8, 8), np.float32), dict(centred(8), cx=100.0), "outside"),
         (np.ones((8, 8), np.float32), dict(centred(8), fx=0.0), "fx"),
+        (np.where(np.eye(8) * np.eye(8)[3], 2.0, 0.0), centred(8), "span no extent"),
     ],
 )
 def test_bad_input_raises_value_error(renderer, depth, k, says):

@@ -329,7 +329,7 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         );
     }
     let framed = map.frame(&k.camera)?;
-    let radius = a.radius.unwrap_or(framed.default_radius);
+    let radius = framed.radius(a.radius).context("--radius")?;
     let [pw, ph] = framed.padded_size;
     let [zmin, zmax] = framed.depth_range;
     let (depth_noise, noise_text) =

@@ -407,6 +407,25 @@ fn float_depth_with_outliers_renders_without_rescaling() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// A depth map whose valid depth spans no extent (one valid pixel) gives no default radius:
+/// the error names that cause, not an invalid `radius` = 0 the user never gave.
+#[test]
+fn an_underivable_radius_names_its_cause() {
+    let d = scratch("lone-pixel");
+    let mut depth = vec![0.0f32; 16];
+    depth[5] = 2.0;
+    let (dpath, kpath) = (d.join("d.npy"), d.join("k.json"));
+    std::fs::write(&dpath, npy_f32(&[4, 4], &depth)).unwrap();
+    std::fs::write(
+        &kpath,
+        r#"{"fx": 100, "fy": 100, "cx": 1.5, "cy": 1.5, "width": 4, "height": 4}"#,
+    )
+    .unwrap();
+    let args = ["render", "--depth", s(&dpath), "--intrinsics", s(&kpath)];
+    assert_fails("lone-pixel-run", &args, "span no extent; give the radius");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// A `.npy` of `values` with `shape` (little-endian float32, C order).
 fn npy_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();

@@ -225,7 +225,8 @@ pub struct Framed {
     /// [`crate::DepthConvention::LinearView`].
     pub depth: Vec<f32>,
     pub projection: Projection,
-    /// 3% of the diagonal of the valid points' percentile bounds, scene units.
+    /// 3% of the diagonal of the valid points' percentile bounds, scene units (0 when
+    /// they span nothing: see [`Framed::radius`]).
     pub default_radius: f32,
     /// Nearest and farthest valid depth.
     pub depth_range: [f32; 2],
@@ -265,6 +266,23 @@ impl Framed {
                 padded[row..row + self.width as usize].iter().copied()
             })
             .collect())
+    }
+
+    /// The AO radius: `given`, or the default radius when it can be derived; otherwise an
+    /// error that names the cause (a map whose valid points span no extent, such as a
+    /// single valid pixel), never an invalid radius the caller did not give.
+    pub fn radius(&self, given: Option<f32>) -> Result<f32> {
+        match given {
+            Some(r) => Ok(r),
+            None if self.default_radius.is_finite() && self.default_radius > 0.0 => {
+                Ok(self.default_radius)
+            }
+            None => Err(invalid(format!(
+                "cannot derive a default radius (3% of the extent of the valid depth): the \
+                 {} valid pixels span no extent; give the radius",
+                self.valid
+            ))),
+        }
     }
 
     /// The depth noise estimated from the map ([`crate::DepthNoise::estimate`]).
@@ -675,6 +693,18 @@ mod tests {
         }
         let f = map.frame(&intrinsics(3.5, 2.5)).unwrap();
         assert!(f.pad(&[0u8; 47]).is_err());
+        // A single valid pixel spans no extent: the radius must be given, and the error
+        // says so instead of rejecting a radius of 0 that nobody gave.
+        let mut one = vec![0.0; 48];
+        one[9] = 2.0;
+        let lone = DepthMap::from_float(8, 6, one)
+            .unwrap()
+            .frame(&intrinsics(3.5, 2.5))
+            .unwrap();
+        let e = lone.radius(None).unwrap_err().to_string();
+        assert!(e.contains("1 valid pixels span no extent"), "{e}");
+        assert_eq!(lone.radius(Some(0.5)).unwrap(), 0.5);
+        assert_eq!(f.radius(None).unwrap(), f.default_radius);
         assert_eq!(f.pad(&[7u8; 48]).unwrap(), vec![7u8; 48]);
     }
 }
