@@ -34,13 +34,8 @@ fn value_error(message: String) -> PyErr {
 
 /// One of `names` (the library's names for its choices), or a `ValueError` listing them.
 fn named<T: Copy>(what: &str, all: &[T], name: impl Fn(T) -> &'static str, s: &str) -> PyResult<T> {
-    all.iter().copied().find(|&t| name(t) == s).ok_or_else(|| {
-        let names: Vec<&str> = all.iter().map(|&t| name(t)).collect();
-        value_error(format!(
-            "{what} `{s}`: expected one of {}",
-            names.join(", ")
-        ))
-    })
+    ::obscura::settings::by_name(all, name, s)
+        .map_err(|e| value_error(format!("{what} `{s}`: {e}")))
 }
 
 fn preset_name(p: Preset) -> &'static str {

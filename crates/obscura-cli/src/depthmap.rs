@@ -99,13 +99,6 @@ pub fn load(path: &Path, scale: f32) -> Result<obscura::DepthMap> {
     })
 }
 
-fn check_size(w: u32, h: u32) -> Result<()> {
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        bail!("depth map is {w}x{h}; each side must be in 1..={MAX_SIDE}");
-    }
-    Ok(())
-}
-
 fn decode_image(bytes: &[u8], ext: &str) -> Result<Decoded> {
     let format = if ext == "png" {
         image::ImageFormat::Png
@@ -117,8 +110,8 @@ fn decode_image(bytes: &[u8], ext: &str) -> Result<Decoded> {
     limits.max_image_width = Some(MAX_SIDE);
     limits.max_image_height = Some(MAX_SIDE);
     reader.limits(limits);
+    // The size is checked with the values (obscura::DepthMap).
     let img = reader.decode().context("cannot decode the depth image")?;
-    check_size(img.width(), img.height())?;
     let (w, h) = (img.width(), img.height());
     let (values, integer) = match img {
         image::DynamicImage::ImageLuma16(b) => {

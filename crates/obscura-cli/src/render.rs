@@ -123,13 +123,8 @@ impl SampleArgs {
     }
 }
 
-/// Parses one of the library's named choices (`T::ALL`, `T::name`), listing them on error.
-fn named<T: Copy>(all: &[T], name: fn(T) -> &'static str, s: &str) -> Result<T, String> {
-    all.iter().copied().find(|&t| name(t) == s).ok_or_else(|| {
-        let names: Vec<&str> = all.iter().map(|&t| name(t)).collect();
-        format!("expected one of {}", names.join(", "))
-    })
-}
+// One of the library's named choices (`T::ALL`, `T::name`), listing them on error.
+use obscura::settings::by_name as named;
 
 pub fn parse_resolution(s: &str) -> Result<Resolution, String> {
     named(&Resolution::ALL, Resolution::name, s)

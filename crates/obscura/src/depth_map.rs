@@ -391,7 +391,6 @@ impl Renderer {
             viewport: None,
             output: None,
         };
-        self.ao.validate(&input, params)?;
         self.ao.restart();
         for _ in 0..frames.max(1) {
             ctx.run(|enc| self.ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;

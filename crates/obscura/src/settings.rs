@@ -3,6 +3,19 @@
 
 use crate::{Error, Result};
 
+/// The one of `all` whose `name` is `s` (the names the CLI and the Python package take),
+/// or a message listing the names.
+pub fn by_name<T: Copy>(
+    all: &[T],
+    name: impl Fn(T) -> &'static str,
+    s: &str,
+) -> std::result::Result<T, String> {
+    all.iter().copied().find(|&t| name(t) == s).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&t| name(t)).collect();
+        format!("expected one of {}", names.join(", "))
+    })
+}
+
 /// The AO estimator: the integral each pixel evaluates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[non_exhaustive]
