@@ -664,10 +664,7 @@ fn compile(device: &wgpu::Device, pass: Pass, options: &AoOptions) -> Compiled {
         label,
         entries: &layout_entries(pass),
     });
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label,
-        source: wgpu::ShaderSource::Wgsl(pass.source().into()),
-    });
+    let module = crate::shader::create_module(device, label, pass.source());
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label,
         bind_group_layouts: &[Some(&layout)],

@@ -6,6 +6,39 @@ use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
 use crate::uniforms::FrameUniforms;
 use crate::{DepthDownsample, Estimator, Upsampler};
 
+/// Compiles one of obscura's WGSL passes without wgpu's loop-bounding guard.
+///
+/// wgpu adds a counter to every shader loop by default (`force_loop_bounding`) so that an
+/// infinite loop cannot become undefined behaviour in the driver's compiler. The counter
+/// costs an increment and a branch per iteration, and it stops the driver from unrolling
+/// constant-trip loops: on lavapipe the GTAO pass ran 13% slower with it
+/// (BENCHMARKS.md, "Shader loops without wgpu's bound"). Every loop in obscura's passes
+/// is a counted `for` whose counter moves monotonically toward a bound it cannot step
+/// over, and the test `every_shader_loop_is_counted` (tests/shaders.rs) checks that
+/// form in every file, so the guard has nothing to guard. Every other runtime check
+/// (bounds checks, integer-division guards) stays on.
+pub(crate) fn create_module(
+    device: &wgpu::Device,
+    label: Option<&str>,
+    source: String,
+) -> wgpu::ShaderModule {
+    let mut checks = wgpu::ShaderRuntimeChecks::checked();
+    checks.force_loop_bounding = false;
+    // SAFETY: `force_loop_bounding = false` requires that no shader loops forever. The
+    // sources are obscura's own passes, whose loops are all counted (see above, and the
+    // test that enforces it); only this crate calls this function.
+    #[allow(unsafe_code)]
+    unsafe {
+        device.create_shader_module_trusted(
+            wgpu::ShaderModuleDescriptor {
+                label,
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            },
+            checks,
+        )
+    }
+}
+
 /// Compute workgroup edge: every pass runs `WORKGROUP_SIZE × WORKGROUP_SIZE` invocations.
 pub const WORKGROUP_SIZE: u32 = 8;
 

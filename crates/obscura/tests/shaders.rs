@@ -97,3 +97,120 @@ fn every_pass_fits_webgpu_default_limits() {
         }
     }
 }
+
+/// WGSL tokens: identifiers and numbers whole, the operators a loop header uses as one
+/// token each, anything else one character; comments dropped.
+fn tokens(src: &str) -> Vec<String> {
+    let code: Vec<&str> = src
+        .lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect();
+    let chars: Vec<char> = code.join("\n").chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_whitespace() {
+            i += 1;
+        } else if c.is_alphanumeric() || c == '_' {
+            let start = i;
+            while i < chars.len()
+                && (chars[i].is_alphanumeric()
+                    || chars[i] == '_'
+                    || chars[i] == '.' && chars[start].is_ascii_digit())
+            {
+                i += 1;
+            }
+            out.push(chars[start..i].iter().collect());
+        } else {
+            let two: String = chars[i..(i + 2).min(chars.len())].iter().collect();
+            let ops = [
+                "==", "!=", "<=", ">=", "++", "--", "+=", "-=", "*=", "/=", "&&", "||", "->",
+            ];
+            if ops.contains(&two.as_str()) {
+                out.push(two);
+                i += 2;
+            } else {
+                out.push(c.to_string());
+                i += 1;
+            }
+        }
+    }
+    out
+}
+
+/// Every loop in the WGSL sources is a counted `for`: `for (var i = A; i < B; i++)` (or
+/// `i <= B` with `i++`, `i > B` with `i--`) whose counter the body never assigns, so it
+/// moves one step per iteration toward its bound. That is what lets `shader::create_module`
+/// turn off wgpu's loop-bounding guard (`<=` bounds are texture sizes or small constants,
+/// never the integer type's maximum). No `loop` or `while`.
+#[test]
+fn every_shader_loop_is_counted() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut loops = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("wgsl") {
+            continue;
+        }
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let t = tokens(&std::fs::read_to_string(&path).unwrap());
+        for kw in ["loop", "while"] {
+            assert!(
+                !t.iter().any(|x| x == kw),
+                "{name}: `{kw}` is not a counted loop"
+            );
+        }
+        let mut counters = Vec::new();
+        let mut in_header = vec![false; t.len()];
+        for i in 0..t.len() {
+            if t[i] != "for" {
+                continue;
+            }
+            // for ( var N = ... ; N op ... ; N ++|-- )
+            let close = (i..t.len()).find(|&j| t[j] == "{").expect("a loop body");
+            let h = &t[i..close];
+            let semis: Vec<usize> = (0..h.len()).filter(|&j| h[j] == ";").collect();
+            assert!(
+                h.len() >= 9 && h[1] == "(" && h[2] == "var" && h[4] == "=" && semis.len() == 2,
+                "{name}: loop header `{}` is not `for (var i = a; i < b; i++)`",
+                h.join(" ")
+            );
+            let n = &h[3];
+            let (cond, step) = (&h[semis[0] + 1..semis[1]], &h[semis[1] + 1..]);
+            let op = cond.get(1).map(String::as_str);
+            let counted = cond[0] == *n
+                && step.len() == 3
+                && step[0] == *n
+                && step[2] == ")"
+                && match step[1].as_str() {
+                    "++" => matches!(op, Some("<" | "<=")),
+                    "--" => op == Some(">"),
+                    _ => false,
+                };
+            assert!(
+                counted,
+                "{name}: loop header `{}` is not counted",
+                h.join(" ")
+            );
+            counters.push(n.clone());
+            in_header[i..close].iter_mut().for_each(|b| *b = true);
+            loops += 1;
+        }
+        let assigns = ["=", "+=", "-=", "*=", "/=", "++", "--"];
+        for j in 1..t.len() - 1 {
+            let declared_or_member = matches!(t[j - 1].as_str(), "var" | "let" | "const" | ".");
+            if !in_header[j] && counters.contains(&t[j]) && assigns.contains(&t[j + 1].as_str()) {
+                assert!(
+                    declared_or_member,
+                    "{name}: loop counter `{}` assigned in a body",
+                    t[j]
+                );
+            }
+        }
+    }
+    assert!(
+        loops >= 30,
+        "found only {loops} loops: is the shader folder right?"
+    );
+}
