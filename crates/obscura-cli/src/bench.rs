@@ -52,6 +52,10 @@ pub struct BenchArgs {
     /// Where the AO normals come from (the G-buffer's, or reconstructed from depth).
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
+    /// Rasterize depth alone with 4× MSAA and time obscura's resolve with the rest (normals
+    /// are then reconstructed, whatever --normals says).
+    #[arg(long)]
+    pub msaa: bool,
     /// Write machine-readable results here (one record per variant, resolution and radius).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -179,8 +183,14 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let total = resolutions.len() * radii.len();
     let mut cell = 0;
     for &(w, h) in &resolutions {
-        let g = raster.render(&ctx, &mesh, &cam, w, h)?;
-        let input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
+        let (g, ms);
+        let input = if a.msaa {
+            ms = raster.render_msaa_depth(&ctx, &mesh, &cam, w, h)?;
+            ms.ao_input(&cam)
+        } else {
+            g = raster.render(&ctx, &mesh, &cam, w, h)?;
+            g.ao_input(&cam, a.normals == NormalSource::Gbuffer)
+        };
         for &r in &radii {
             cell += 1;
             let params = AoParams {

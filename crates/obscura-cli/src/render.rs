@@ -273,6 +273,11 @@ pub struct RenderArgs {
     /// Where the AO normals come from.
     #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
     pub normals: NormalSource,
+    /// Rasterize the scene's depth with 4× MSAA and hand obscura the multisampled depth,
+    /// which it resolves per pixel: the pixel-centre depth where all samples see one
+    /// surface, the nearest sample on silhouettes. Normals are reconstructed from it.
+    #[arg(long, conflicts_with = "depth")]
+    pub msaa: bool,
     /// A captured depth map instead of a scene: 16-bit PNG or uint16 .npy (units set by the
     /// intrinsics' depth_scale, default millimetres), or float EXR / float16/32/64 .npy (scene
     /// units already: depth_scale is not applied), C or Fortran order. 0, NaN and infinite
@@ -391,6 +396,9 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
         }
         if a.depth.is_some() {
             bail!("--orbit needs a scene (a depth map has one camera)");
+        }
+        if a.msaa {
+            bail!("--msaa renders a still camera; --orbit rasterizes single-sampled G-buffers");
         }
     }
     check_ao_path(&a.out)?;
@@ -567,18 +575,29 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let t = Instant::now();
     let raster = GBufferRenderer::new(&ctx.device);
     let gpu_mesh = raster.upload(&ctx, &mesh)?;
-    let gbuffer = raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+    let (gbuffer, msaa_depth);
+    let input = if a.msaa {
+        msaa_depth = raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+        msaa_depth.ao_input(&cam)
+    } else {
+        gbuffer = raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+        gbuffer.ao_input(&cam, a.normals == NormalSource::Gbuffer)
+    };
     eprintln!(
-        "g-buffer: {}x{} in {:.1} ms (includes pipeline creation)",
+        "g-buffer: {}x{}{} in {:.1} ms (includes pipeline creation)",
         a.width,
         a.height,
+        if a.msaa {
+            ", depth only, 4x MSAA (obscura resolves it; normals reconstructed)"
+        } else {
+            ""
+        },
         t.elapsed().as_secs_f64() * 1e3
     );
 
     let options = options(a);
     let params = params(a, radius);
     let mut ao = Ao::new(&ctx.device, options)?;
-    let input = gbuffer.ao_input(&cam, a.normals == NormalSource::Gbuffer);
     ao.validate(&input, &params)?;
     eprintln!(
         "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",

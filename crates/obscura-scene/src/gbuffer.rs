@@ -9,6 +9,9 @@ use wgpu::util::DeviceExt;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Normal format of the G-buffer (view-space xyz, signed).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Samples per pixel of [`GBufferRenderer::render_msaa_depth`]: 4, the count every WebGPU
+/// device supports for depth formats.
+pub const MSAA_SAMPLES: u32 = 4;
 
 /// Uploaded geometry, ready to draw from any camera.
 #[derive(Debug)]
@@ -45,10 +48,35 @@ impl GBuffer {
     }
 }
 
-/// The G-buffer render pipeline.
+/// Multisampled depth of one view ([`MSAA_SAMPLES`] per pixel, [`DEPTH_FORMAT`]), as an
+/// MSAA renderer's depth attachment holds it.
+#[derive(Debug)]
+pub struct MsaaDepth {
+    pub depth: wgpu::Texture,
+    pub depth_view: wgpu::TextureView,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl MsaaDepth {
+    /// obscura's input for this depth seen by `camera` (normals reconstructed).
+    pub fn ao_input(&self, camera: &Camera) -> obscura::AoInput<'_> {
+        obscura::AoInput {
+            depth: &self.depth_view,
+            convention: obscura::DepthConvention::Standard,
+            projection: camera.obscura_projection(self.width as f32 / self.height as f32),
+            normals: None,
+            viewport: None,
+            output: None,
+        }
+    }
+}
+
+/// The G-buffer render pipelines: depth and normals, and multisampled depth alone.
 #[derive(Debug)]
 pub struct GBufferRenderer {
     pipeline: wgpu::RenderPipeline,
+    msaa_pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     camera: wgpu::Buffer,
 }
@@ -85,40 +113,49 @@ impl GBufferRenderer {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label,
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(NORMAL_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let normal_target = [Some(NORMAL_FORMAT.into())];
+        let make = |samples: u32| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label,
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: 12,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState {
+                    count: samples,
+                    ..Default::default()
+                },
+                // Multisampled: depth only.
+                fragment: (samples == 1).then(|| wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &normal_target,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipeline = make(1);
+        let msaa_pipeline = make(MSAA_SAMPLES);
         let camera = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gbuffer camera"),
             size: std::mem::size_of::<CameraUniform>() as u64,
@@ -127,6 +164,7 @@ impl GBufferRenderer {
         });
         Self {
             pipeline,
+            msaa_pipeline,
             layout,
             camera,
         }
@@ -167,6 +205,52 @@ impl GBufferRenderer {
         width: u32,
         height: u32,
     ) -> Result<GBuffer, SceneError> {
+        let depth = self.target(ctx, camera, width, height, DEPTH_FORMAT, 1)?;
+        let normals = self.target(ctx, camera, width, height, NORMAL_FORMAT, 1)?;
+        let depth_view = depth.create_view(&Default::default());
+        let normals_view = normals.create_view(&Default::default());
+        self.draw(ctx, mesh, &self.pipeline, Some(&normals_view), &depth_view)?;
+        Ok(GBuffer {
+            depth,
+            depth_view,
+            normals,
+            normals_view,
+            width,
+            height,
+        })
+    }
+
+    /// Renders the depth of `mesh` from `camera` with [`MSAA_SAMPLES`] samples per pixel,
+    /// waiting for completion.
+    pub fn render_msaa_depth(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<MsaaDepth, SceneError> {
+        let depth = self.target(ctx, camera, width, height, DEPTH_FORMAT, MSAA_SAMPLES)?;
+        let depth_view = depth.create_view(&Default::default());
+        self.draw(ctx, mesh, &self.msaa_pipeline, None, &depth_view)?;
+        Ok(MsaaDepth {
+            depth,
+            depth_view,
+            width,
+            height,
+        })
+    }
+
+    /// Checks the camera and size, uploads the camera, and creates one render target.
+    fn target(
+        &self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> Result<wgpu::Texture, SceneError> {
         camera.validate()?;
         let max = ctx.device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
@@ -179,30 +263,43 @@ impl GBufferRenderer {
         };
         ctx.queue
             .write_buffer(&self.camera, 0, bytemuck::bytes_of(&uniform));
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        };
+        // Multisampled textures cannot be copied out; single-sampled ones can (tests).
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC;
-        let make = |label, format| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let depth = make("gbuffer depth", DEPTH_FORMAT);
-        let normals = make("gbuffer normals", NORMAL_FORMAT);
-        let depth_view = depth.create_view(&Default::default());
-        let normals_view = normals.create_view(&Default::default());
+            | if samples == 1 {
+                wgpu::TextureUsages::COPY_SRC
+            } else {
+                wgpu::TextureUsages::empty()
+            };
+        Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(if format == DEPTH_FORMAT {
+                "gbuffer depth"
+            } else {
+                "gbuffer normals"
+            }),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        }))
+    }
+
+    /// Draws `mesh` with `pipeline` into the targets, waiting for completion.
+    fn draw(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        pipeline: &wgpu::RenderPipeline,
+        normals_view: Option<&wgpu::TextureView>,
+        depth_view: &wgpu::TextureView,
+    ) -> Result<(), SceneError> {
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("gbuffer"),
             layout: &self.layout,
@@ -211,25 +308,27 @@ impl GBufferRenderer {
                 resource: self.camera.as_entire_binding(),
             }],
         });
+        let color = normals_view.map(|view| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: 0.0,
+                    g: 0.0,
+                    b: 1.0,
+                    a: 0.0,
+                }),
+                store: wgpu::StoreOp::Store,
+            },
+        });
         ctx.run(|enc| {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("gbuffer"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &normals_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 0.0,
-                            g: 0.0,
-                            b: 1.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                // The depth-only pipeline has no colour target at all (not a `None` one).
+                color_attachments: &color.map(Some).into_iter().collect::<Vec<_>>(),
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
+                    view: depth_view,
                     depth_ops: Some(wgpu::Operations {
                         load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Store,
@@ -240,20 +339,13 @@ impl GBufferRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);
             Ok(())
         })?;
-        Ok(GBuffer {
-            depth,
-            depth_view,
-            normals,
-            normals_view,
-            width,
-            height,
-        })
+        Ok(())
     }
 }

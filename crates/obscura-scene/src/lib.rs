@@ -8,7 +8,7 @@ pub mod gbuffer;
 pub mod mesh;
 
 pub use camera::{Camera, CameraProjection};
-pub use gbuffer::{GBuffer, GBufferRenderer, GpuMesh};
+pub use gbuffer::{GBuffer, GBufferRenderer, GpuMesh, MsaaDepth};
 pub use mesh::{Aabb, Mesh};
 
 /// Errors from loading scenes and cameras.

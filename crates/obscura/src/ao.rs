@@ -20,6 +20,7 @@ use crate::layout::layer_size;
 use crate::shader::{
     dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, HISTORY_FORMAT,
     LINEAR_DEPTH_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -31,8 +32,10 @@ use crate::{
 #[derive(Clone, Copy, Debug)]
 pub struct AoInput<'a> {
     /// Depth, as a depth format (Depth32Float, Depth24Plus, Depth16Unorm; depth-only view
-    /// for combined depth-stencil formats) or a float format (R32Float, R16Float), not
-    /// multisampled, with `TEXTURE_BINDING` usage.
+    /// for combined depth-stencil formats) or a float format (R32Float, R16Float), with
+    /// `TEXTURE_BINDING` usage. A multisampled depth-format texture (MSAA) is resolved
+    /// first, one depth per pixel (shaders/resolve_depth.wgsl: the pixel-centre depth
+    /// where every sample sees one surface, else the nearest sample).
     pub depth: &'a wgpu::TextureView,
     /// How the depth values are encoded.
     pub convention: DepthConvention,
@@ -364,6 +367,19 @@ pub struct ResourceCount {
     pub bind_groups: u32,
 }
 
+/// The MSAA depth resolve ([`Pass::ResolveDepth`]), created on the first frame whose depth
+/// input is multisampled.
+#[derive(Debug)]
+struct Resolve {
+    compiled: Compiled,
+    /// One raw depth per pixel, at the depth texture's size (the prepare pass reads it at
+    /// the viewport's texels, as it reads the caller's depth).
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    /// The bind group of the last frame's depth view, kept while the caller passes it.
+    binding: Option<(wgpu::TextureView, wgpu::BindGroup)>,
+}
+
 /// The prepare pass's bind group, kept while the caller passes the same views.
 #[derive(Debug)]
 struct PrepareBinding {
@@ -463,6 +479,7 @@ pub struct Ao {
     dummy_normals: wgpu::TextureView,
     max_dim: u32,
     sized: Option<SizedResources>,
+    resolve: Option<Resolve>,
     created: ResourceCount,
     temporal: TemporalState,
 }
@@ -646,6 +663,19 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         Pass::AoDownsample { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
+        ],
+        Pass::ResolveDepth => vec![
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: D2,
+                    multisampled: true,
+                },
+                count: None,
+            },
+            storage_entry(2, RESOLVED_DEPTH_FORMAT, D2),
         ],
     };
     let pyramid = match pass {
@@ -858,6 +888,7 @@ impl Ao {
             dummy_normals,
             max_dim: device.limits().max_texture_dimension_2d,
             sized: None,
+            resolve: None,
             created: ResourceCount {
                 buffers: 2,
                 textures: 1,
@@ -876,12 +907,12 @@ impl Ao {
     /// Checks `input` and `params` and derives the frame uniforms. No GPU work.
     pub fn validate(&self, input: &AoInput<'_>, params: &AoParams) -> Result<FrameUniforms> {
         let tex = input.depth.texture();
-        depth_binding(tex.format())?;
-        if tex.sample_count() != 1 {
+        let binding = depth_binding(tex.format())?;
+        if tex.sample_count() != 1 && binding != DepthBinding::Depth {
             return Err(Error::UnsupportedFormat {
                 what: "multisampled depth",
                 format: tex.format(),
-                expected: "a single-sampled texture (resolve MSAA depth first)",
+                expected: "a depth format (Depth32Float, Depth24Plus, Depth16Unorm, a depth-stencil format) when multisampled",
             });
         }
         if !tex.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
@@ -994,6 +1025,69 @@ impl Ao {
             &self.options,
             params,
         )
+    }
+
+    /// Compiles the MSAA resolve pass and creates its texture (at the depth texture's size)
+    /// and bind group, unless those of the last frame still fit `depth`.
+    fn ensure_resolve(&mut self, device: &wgpu::Device, depth: &wgpu::TextureView) -> Result<()> {
+        let tex = depth.texture();
+        let size = (tex.width(), tex.height());
+        let fits = |r: &Resolve| (r.texture.width(), r.texture.height()) == size;
+        if self
+            .resolve
+            .as_ref()
+            .is_some_and(|r| fits(r) && r.binding.as_ref().is_some_and(|b| &b.0 == depth))
+        {
+            return Ok(());
+        }
+        let scope = ErrorScope::push(device);
+        let new_texture = || {
+            let t = make_texture(
+                device,
+                "obscura resolved depth",
+                size,
+                1,
+                1,
+                RESOLVED_DEPTH_FORMAT,
+            );
+            let v = t.create_view(&Default::default());
+            (t, v)
+        };
+        match self.resolve.as_mut() {
+            None => {
+                let compiled = compile(device, Pass::ResolveDepth, &self.options);
+                let (texture, view) = new_texture();
+                self.resolve = Some(Resolve {
+                    compiled,
+                    texture,
+                    view,
+                    binding: None,
+                });
+                self.created.textures += 1;
+                self.created.texture_views += 1;
+            }
+            Some(r) if !fits(r) => {
+                (r.texture, r.view) = new_texture();
+                r.binding = None;
+                self.created.textures += 1;
+                self.created.texture_views += 1;
+            }
+            Some(_) => {}
+        }
+        let r = self.resolve.as_mut().expect("created above");
+        let bg = bind_group(
+            device,
+            &r.compiled,
+            &self.uniforms,
+            &[(1, depth), (2, &r.view)],
+        );
+        r.binding = Some((depth.clone(), bg));
+        self.created.bind_groups += 1;
+        let result = scope.pop("creating obscura's MSAA depth resolve");
+        if result.is_err() {
+            self.resolve = None;
+        }
+        result
     }
 
     /// Creates the size-dependent resources unless they already match `size`.
@@ -1223,7 +1317,21 @@ impl Ao {
         params: &AoParams,
     ) -> Result<Vec<(&Compiled, wgpu::BindGroup, [u32; 3])>> {
         let mut frame = self.validate(input, params)?;
-        let binding = depth_binding(input.depth.texture().format())?;
+        let multisampled = input.depth.texture().sample_count() > 1;
+        // A multisampled depth is resolved first and the prepare pass reads the result.
+        let (depth_view, binding) = if multisampled {
+            self.ensure_resolve(device, input.depth)?;
+            let r = self
+                .resolve
+                .as_ref()
+                .expect("resolve resources were just created");
+            (r.view.clone(), DepthBinding::Float)
+        } else {
+            (
+                input.depth.clone(),
+                depth_binding(input.depth.texture().format())?,
+            )
+        };
         self.ensure_size(device, frame.size)?;
         let parity = self
             .temporal
@@ -1258,12 +1366,12 @@ impl Ao {
         };
         // The same input views as last frame (an engine's usual case): reuse the bind group.
         let cached = sized.prepare_binding.as_ref().is_some_and(|b| {
-            &b.depth == input.depth
+            b.depth == depth_view
                 && b.normals.as_ref() == input.normals.map(|n| n.0)
                 && b.fit == fit
         });
         if !cached {
-            let mut views = vec![(1, input.depth), (2, normals)];
+            let mut views = vec![(1, &depth_view), (2, normals)];
             for (b, r) in prepare_targets(self.prepare_store) {
                 let Some(target) = sized.view(r) else {
                     return Err(Error::Gpu("no prepare target".into()));
@@ -1273,7 +1381,7 @@ impl Ao {
             let bg = bind_group(device, prepare, &self.uniforms, &views);
             self.created.bind_groups += 1;
             sized.prepare_binding = Some(PrepareBinding {
-                depth: input.depth.clone(),
+                depth: depth_view,
                 normals: input.normals.map(|n| n.0.clone()),
                 fit,
                 bind_group: bg,
@@ -1336,7 +1444,14 @@ impl Ao {
             return Err(Error::Gpu("output bind group missing".into()));
         };
         let p = parity as usize;
-        let mut passes = vec![(prepare, prepare_bind, sized.prepare_dispatch)];
+        let mut passes = Vec::with_capacity(sized.later.len() + 2);
+        if let (true, Some(r)) = (multisampled, &self.resolve) {
+            let (x, y) = dispatch_size(frame.size);
+            let bg = r.binding.as_ref().map(|b| b.1.clone());
+            let bg = bg.ok_or_else(|| Error::Gpu("resolve bind group missing".into()))?;
+            passes.push((&r.compiled, bg, [x, y, 1]));
+        }
+        passes.push((prepare, prepare_bind, sized.prepare_dispatch));
         for (i, bg, d) in &sized.later {
             let bg = bg.as_ref().unwrap_or(output_bind)[p].clone();
             passes.push((&self.later[*i], bg, *d));
@@ -1471,6 +1586,12 @@ impl Ao {
     /// benchmarks, also creates query buffers, not counted.)
     pub fn resource_creations(&self) -> ResourceCount {
         self.created
+    }
+
+    /// The MSAA resolve's output (`R32Float`, the depth texture's size; raw depth at the
+    /// viewport's texels), once a frame with a multisampled depth input was recorded.
+    pub fn resolved_depth(&self) -> Option<&wgpu::Texture> {
+        self.resolve.as_ref().map(|r| &r.texture)
     }
 
     /// The library's own AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a

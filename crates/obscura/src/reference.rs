@@ -69,6 +69,28 @@ fn reconstructed_normal(
     }
 }
 
+/// The MSAA resolve of one pixel (shaders/resolve_depth.wgsl) from its raw sample depths:
+/// their mean when every sample is a surface and their linear depths lie within
+/// `PLANE_TOLERANCE` of the nearest, else the raw depth of the nearest non-sky sample (the
+/// first sample when all are sky).
+pub fn resolve_msaa_depth(f: &FrameUniforms, samples: &[f32]) -> f32 {
+    use crate::shader::PLANE_TOLERANCE;
+    let lin = f.linearize();
+    let surfaces: Vec<(f32, f32)> = samples
+        .iter()
+        .filter_map(|&raw| lin.apply(raw).map(|d| (d, raw)))
+        .collect();
+    let Some(&(nearest, nearest_raw)) = surfaces.iter().min_by(|a, b| a.0.total_cmp(&b.0)) else {
+        return samples[0];
+    };
+    let farthest = surfaces.iter().map(|s| s.0).fold(nearest, f32::max);
+    if surfaces.len() == samples.len() && farthest - nearest <= PLANE_TOLERANCE * nearest {
+        samples.iter().sum::<f32>() / samples.len() as f32
+    } else {
+        nearest_raw
+    }
+}
+
 /// The prepare pass with normals reconstructed from depth: `vec4(d, n)` per viewport pixel;
 /// with a depth noise model in `f`, depth and normal from plane fits ([`fit_surface`]).
 pub fn prepare(f: &FrameUniforms, raw: &[f32], raw_width: u32) -> Vec<Vec4> {

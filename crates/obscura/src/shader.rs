@@ -49,6 +49,9 @@ pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Storage format of the full-resolution linear depth written by the fused downsampling
 /// prepare pass ([`PrepareStore::Down`]).
 pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Storage format of the MSAA resolve's output: the raw depth of one sample, or the mean of
+/// all (shaders/resolve_depth.wgsl), read by the prepare pass as a float depth input.
+pub const RESOLVED_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -192,6 +195,9 @@ pub enum Pass {
     Temporal { layers: bool },
     /// AO 2×2 → 1 by seed 003's box or tent filter.
     AoDownsample { tent: bool },
+    /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
+    /// reads it as a float input).
+    ResolveDepth,
 }
 
 impl Pass {
@@ -221,7 +227,7 @@ impl Pass {
                 v.push(Pass::AoLayered { merge, estimator });
             }
         }
-        v.extend([Pass::Deinterleave, Pass::Interleave]);
+        v.extend([Pass::Deinterleave, Pass::Interleave, Pass::ResolveDepth]);
         for source in [
             PyramidSource::Full,
             PyramidSource::Layers,
@@ -290,6 +296,7 @@ impl Pass {
             Pass::Temporal { layers: true } => "temporal_from_layers",
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
+            Pass::ResolveDepth => "resolve_depth",
         }
     }
 
@@ -408,6 +415,7 @@ impl Pass {
                 ]
             }
             Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
+            Pass::ResolveDepth => vec![include_str!("../shaders/resolve_depth.wgsl")],
         }
     }
 
@@ -469,7 +477,7 @@ impl Pass {
             | Pass::Pyramid {
                 source: PyramidSource::Layers,
             } => vec![split],
-            Pass::Pyramid { .. } | Pass::PyramidLevels => vec![],
+            Pass::Pyramid { .. } | Pass::PyramidLevels | Pass::ResolveDepth => vec![],
             Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
             Pass::Downsample { rule: r, level } => rule(r, level),
             Pass::Denoise { layers } => {

@@ -2764,3 +2764,118 @@ fn depth_map_renderer_pads_crops_and_refills() {
     let again = r.render(ctx(), &valley, None, &params, 1).unwrap();
     assert_eq!(first, again);
 }
+
+/// A multisampled depth-format input is resolved before the prepare pass: a constant depth
+/// (a plane facing the camera) resolves to itself and is unoccluded; the resolve texture
+/// and its bind group are created on the first frame only; a multisampled float input is
+/// a typed error. (The resolve rule against its CPU mirror, and MSAA AO against
+/// single-sampled AO, are tested on a rasterised scene in obscura-scene's tests.)
+#[test]
+fn msaa_depth_is_resolved_once_per_size_and_float_msaa_is_refused() {
+    let _g = lock();
+    let c = ctx();
+    let make = |format, w, h| {
+        c.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("msaa test input"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 4,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+    };
+    let depth = make(wgpu::TextureFormat::Depth32Float, W, H);
+    let view = depth.create_view(&Default::default());
+    c.run(|enc| {
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("clear to a plane"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.5),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        Ok(())
+    })
+    .unwrap();
+    let mut ao = Ao::new(&c.device, AoOptions::default()).unwrap();
+    let input = AoInput {
+        depth: &view,
+        convention: DepthConvention::Standard,
+        projection: persp(W, H),
+        normals: None,
+        viewport: None,
+        output: None,
+    };
+    let params = AoParams {
+        radius: 1.0,
+        ..Default::default()
+    };
+    c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+        .unwrap();
+    let first = ao.resource_creations();
+    for _ in 0..3 {
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap();
+    }
+    assert_eq!(
+        ao.resource_creations(),
+        first,
+        "MSAA frames create nothing after the first"
+    );
+    let resolved = c.read_f32(ao.resolved_depth().unwrap()).unwrap();
+    assert!(
+        resolved.iter().all(|&d| d == 0.5),
+        "a constant depth resolves to itself"
+    );
+    let out = c.read_f32(ao.output().unwrap()).unwrap();
+    assert!(
+        out.iter().all(|&a| a > 0.99),
+        "a plane facing the camera is unoccluded"
+    );
+    // A larger depth texture: a new resolve texture, once.
+    let big = make(wgpu::TextureFormat::Depth32Float, W + 8, H + 8);
+    let big_view = big.create_view(&Default::default());
+    let big_input = AoInput {
+        depth: &big_view,
+        projection: persp(W + 8, H + 8),
+        ..input
+    };
+    c.run(|enc| ao.record(&c.device, &c.queue, enc, &big_input, &params))
+        .unwrap();
+    assert_eq!(ao.resolved_depth().unwrap().width(), W + 8);
+    let float = make(wgpu::TextureFormat::R16Float, W, H);
+    let float_view = float.create_view(&Default::default());
+    let err = ao
+        .validate(
+            &AoInput {
+                depth: &float_view,
+                ..input
+            },
+            &params,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            Error::UnsupportedFormat {
+                what: "multisampled depth",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
