@@ -2,10 +2,11 @@
 // (reverse reprojection caching: Nehab et al. 2007; Scherzer et al. 2007, seed 002):
 //  1. this pixel's view position, moved into the previous frame's view space
 //     (frame.prev_from_view) and projected with the previous projection;
-//  2. the history (vec4(AO, frames accumulated, linear depth, 0)) read bilinearly there,
-//     each of the four texels kept only if its surface point lies within
-//     plane_tolerance(depth) of this pixel's tangent plane (else it was another surface:
-//     disocclusion), the weights renormalised;
+//  2. the history (vec4(AO, frames accumulated, linear depth, packed normal)) read
+//     bilinearly there, each of the four texels kept only if its surface point lies within
+//     plane_tolerance(depth) of this pixel's tangent plane and its normal within
+//     HISTORY_NORMAL_COS of this pixel's (else it was another surface: disocclusion, or
+//     the other face of an edge), the weights renormalised;
 //  3. the history AO clamped to the min/max of this frame's raw AO over the 3×3
 //     neighbourhood, which spans every sampling pattern of a 2×2 tile (Karis 2014's
 //     neighbourhood clamp, applied before any spatial filter so the clamp window holds
@@ -22,6 +23,27 @@
 @group(0) @binding(3) var history_in: texture_2d<f32>;
 @group(0) @binding(4) var history_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var ao_out: texture_storage_2d<r32float, write>;
+
+// A unit normal as one float: octahedral coordinates (Meyer et al. 2010, "On
+// floating-point normal vectors"), 12 bits each, q.x * 4096 + q.y < 2^24 so exact in f32.
+fn pack_normal(n: vec3<f32>) -> f32 {
+    var o = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    if n.z < 0.0 {
+        o = (1.0 - abs(o.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), o >= vec2<f32>(0.0));
+    }
+    let q = round(clamp(o * 0.5 + 0.5, vec2<f32>(0.0), vec2<f32>(1.0)) * 4095.0);
+    return q.x * 4096.0 + q.y;
+}
+
+fn unpack_normal(w: f32) -> vec3<f32> {
+    let qx = floor(w / 4096.0);
+    let o = vec2<f32>(qx, w - qx * 4096.0) / 4095.0 * 2.0 - 1.0;
+    var n = vec3<f32>(o, 1.0 - abs(o.x) - abs(o.y));
+    if n.z < 0.0 {
+        n = vec3<f32>((1.0 - abs(n.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xy >= vec2<f32>(0.0)), n.z);
+    }
+    return normalize(n);
+}
 
 // The history's (AO, frames) where this pixel's surface point `pos` (normal `n`) was in the
 // previous frame, from the valid ones of the four nearest texels; (0, 0) when none is.
@@ -54,7 +76,7 @@ fn reprojected(pos: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
             continue;
         }
         let q = view_position_scaled(vec2<f32>(t) + 0.5, h.z, frame.prev_ndc_to_view);
-        if abs(dot(q - prev, prev_n)) >= tol {
+        if abs(dot(q - prev, prev_n)) >= tol || dot(unpack_normal(h.w), prev_n) < HISTORY_NORMAL_COS {
             continue;
         }
         let w = select(1.0 - f.x, f.x, o.x == 1) * select(1.0 - f.y, f.y, o.y == 1);
@@ -98,6 +120,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if centre.x <= 0.0 {
         frames = 0.0;
     }
-    textureStore(history_out, p, vec4<f32>(ao, frames, centre.x, 0.0));
+    textureStore(history_out, p, vec4<f32>(ao, frames, centre.x, pack_normal(centre.yzw)));
     textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
 }

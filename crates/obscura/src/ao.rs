@@ -1647,7 +1647,8 @@ impl Ao {
     }
 
     /// The temporal history written by the last frame (`Rgba32Float` at the working
-    /// resolution: `vec4(AO, frames accumulated (0 = sky), linear depth, 0)`), when
+    /// resolution: `vec4(AO, frames accumulated (0 = sky), linear depth, packed normal)`
+    /// (`reference::unpack_normal` decodes it)), when
     /// [`AoOptions::history`] is on and a frame was recorded.
     pub fn history(&self) -> Option<&wgpu::Texture> {
         let parity = self.temporal.parity;

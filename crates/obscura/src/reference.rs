@@ -956,10 +956,45 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
     out
 }
 
+/// A unit normal as one float (shaders/temporal.wgsl, `pack_normal`): octahedral
+/// coordinates quantised to 12 bits each, `q.x * 4096 + q.y`.
+pub fn pack_normal(n: Vec3) -> f32 {
+    let mut o = glam::Vec2::new(n.x, n.y) / (n.x.abs() + n.y.abs() + n.z.abs());
+    if n.z < 0.0 {
+        let s = glam::Vec2::new(wgsl_sign_ge(o.x), wgsl_sign_ge(o.y));
+        o = (glam::Vec2::ONE - glam::Vec2::new(o.y.abs(), o.x.abs())) * s;
+    }
+    let q = ((o * 0.5 + 0.5).clamp(glam::Vec2::ZERO, glam::Vec2::ONE) * 4095.0)
+        .map(f32::round_ties_even);
+    q.x * 4096.0 + q.y
+}
+
+/// The inverse of [`pack_normal`] (shaders/temporal.wgsl, `unpack_normal`).
+pub fn unpack_normal(w: f32) -> Vec3 {
+    let qx = (w / 4096.0).floor();
+    let o = glam::Vec2::new(qx, w - qx * 4096.0) / 4095.0 * 2.0 - 1.0;
+    let mut n = Vec3::new(o.x, o.y, 1.0 - o.x.abs() - o.y.abs());
+    if n.z < 0.0 {
+        let s = glam::Vec2::new(wgsl_sign_ge(n.x), wgsl_sign_ge(n.y));
+        let xy = (glam::Vec2::ONE - glam::Vec2::new(n.y.abs(), n.x.abs())) * s;
+        n = Vec3::new(xy.x, xy.y, n.z);
+    }
+    n.normalize()
+}
+
+/// `select(-1, 1, x >= 0)`.
+fn wgsl_sign_ge(x: f32) -> f32 {
+    if x >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
 /// One frame of temporal accumulation at working resolution (`f` the working frame with
 /// its temporal fields, `prepared` per pixel, `ao` this frame's raw AO, `history` last
-/// frame's `vec4(AO, frames, depth, 0)`); returns this frame's history and AO. Mirrors
-/// shaders/temporal.wgsl.
+/// frame's `vec4(AO, frames, depth, packed normal)`); returns this frame's history and AO.
+/// Mirrors shaders/temporal.wgsl.
 pub fn temporal(
     f: &FrameUniforms,
     prepared: &[Vec4],
@@ -996,7 +1031,9 @@ pub fn temporal(
                 continue;
             }
             let q = f.view_position_scaled(centre(t), hv.z, f.prev_ndc_to_view);
-            if (q - prev).dot(prev_n).abs() >= f.plane_tolerance(depth) {
+            if (q - prev).dot(prev_n).abs() >= f.plane_tolerance(depth)
+                || unpack_normal(hv.w).dot(prev_n) < crate::shader::HISTORY_NORMAL_COS
+            {
                 continue;
             }
             let wx = if o[0] == 1 { fr.x } else { 1.0 - fr.x };
@@ -1039,7 +1076,12 @@ pub fn temporal(
             if c.x <= 0.0 {
                 frames = 0.0;
             }
-            hist_out.push(Vec4::new(a, frames, c.x, 0.0));
+            hist_out.push(Vec4::new(
+                a,
+                frames,
+                c.x,
+                pack_normal(Vec3::new(c.y, c.z, c.w)),
+            ));
             out.push(a);
         }
     }

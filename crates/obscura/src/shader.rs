@@ -83,7 +83,15 @@ pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
 /// the denoiser) is at least this many σ of the depth noise ([`crate::DepthNoise`]), so
 /// noise does not read as an edge (common.wgsl, `plane_tolerance`).
 pub const NOISE_TOLERANCE_SIGMAS: f32 = 2.0;
-/// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth, 0)`.
+/// Temporal reprojection keeps a history texel only if its surface normal is within about
+/// 26° of this pixel's (cosine at least this): across a convex edge the neighbouring face's
+/// texels lie within the tangent-plane tolerance of this face's plane, and on a face seen
+/// edge-on (a pixel or two wide, just disoccluded) they made up most of the bilinear
+/// footprint. The normal test of reprojection caches (SVGF, Schied et al. 2017), at about
+/// the angle where the denoiser's normal weight halves (25°).
+pub const HISTORY_NORMAL_COS: f32 = 0.9;
+/// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth,
+/// normal)`, the view-space normal packed in one float (shaders/temporal.wgsl, `pack_normal`).
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
 /// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
@@ -529,6 +537,7 @@ pub fn prelude() -> String {
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
          const DENOISE_RADIUS_TOLERANCE: f32 = {DENOISE_RADIUS_TOLERANCE:?};\n\
          const NOISE_TOLERANCE_SIGMAS: f32 = {NOISE_TOLERANCE_SIGMAS:?};\n\
+         const HISTORY_NORMAL_COS: f32 = {HISTORY_NORMAL_COS:?};\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
          const ACOS_POLY: array<f32, 4> = array<f32, 4>({});\n\

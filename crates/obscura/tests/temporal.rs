@@ -160,7 +160,11 @@ fn temporal_pass_matches_cpu_mirror_after_a_move() {
         let ok_hist = hist
             .iter()
             .zip(&f1.history)
-            .filter(|(a, b)| close(a.x, b.x) && close(a.y, b.y) && close(a.z, b.z))
+            .filter(|(a, b)| {
+                let same_normal = a.y == 0.0
+                    || reference::unpack_normal(a.w).dot(reference::unpack_normal(b.w)) > 0.999;
+                close(a.x, b.x) && close(a.y, b.y) && close(a.z, b.z) && same_normal
+            })
             .count();
         assert!(ok_out * 200 >= n * 199, "{mode:?}: output {ok_out}/{n}");
         assert!(ok_hist * 200 >= n * 199, "{mode:?}: history {ok_hist}/{n}");
@@ -345,4 +349,75 @@ fn history_resets_on_reset_cut_and_resize() {
     assert!(small.chunks_exact(4).all(|h| h[1] <= 1.0));
     assert_eq!(frames_at_centre(&frame(&mut ao, &depth, &still)), 1.0);
     assert_eq!(frames_at_centre(&frame(&mut ao, &depth, &still)), 2.0);
+}
+
+/// The history's packed normal (one float: 12-bit octahedral coordinates) decodes within
+/// 0.1° of the normal, over the whole sphere, and is an integer below 2^24 (exact in f32).
+#[test]
+fn packed_history_normals_round_trip() {
+    let mut worst = 1.0f32;
+    for i in 0..2000 {
+        // A Fibonacci sphere: both hemispheres, the poles and the octahedron's folds.
+        let z = 1.0 - 2.0 * (i as f32 + 0.5) / 2000.0;
+        let phi = i as f32 * 2.399_963;
+        let r = (1.0 - z * z).sqrt();
+        for n in [
+            Vec3::new(r * phi.cos(), r * phi.sin(), z),
+            Vec3::X,
+            -Vec3::Z,
+            Vec3::Y,
+        ] {
+            let w = reference::pack_normal(n);
+            assert!(
+                w == w.floor() && (0.0..16_777_216.0).contains(&w),
+                "{n}: {w}"
+            );
+            worst = worst.min(reference::unpack_normal(w).dot(n));
+        }
+    }
+    assert!(worst > 0.1f32.to_radians().cos(), "worst cosine {worst}");
+}
+
+/// The temporal mirror keeps a history texel whose normal matches this pixel's and drops
+/// one whose normal is turned 90° (the other face of an edge), with a still camera.
+#[test]
+fn history_with_another_normal_is_not_reused() {
+    let d = scene_depth(view_matrix(
+        Vec3::new(0.0, 1.5, 2.0),
+        Vec3::new(0.0, 0.6, -3.0),
+    ));
+    let mut ao = temporal_ao(AoOptions {
+        history: 8,
+        ..Default::default()
+    });
+    let f = frame(&mut ao, &d, &params(CameraMotion::Still));
+    let mut u = f.uniforms;
+    u.history = 1;
+    u.prev_from_view = Mat4::IDENTITY.to_cols_array_2d();
+    u.prev_ndc_to_view = u.ndc_to_view;
+    let prepared = reference::prepare(&u, &d, W);
+    let history = |turn: bool| -> Vec<Vec4> {
+        prepared
+            .iter()
+            .map(|p| {
+                let n = Vec3::new(p.y, p.z, p.w);
+                let n = if turn { n.any_orthonormal_vector() } else { n };
+                Vec4::new(0.5, 3.0, p.x, reference::pack_normal(n))
+            })
+            .collect()
+    };
+    let surfaces = prepared.iter().filter(|p| p.x > 0.0).count();
+    let (kept, _) = reference::temporal(&u, &prepared, &f.raw, &history(false));
+    let (dropped, out) = reference::temporal(&u, &prepared, &f.raw, &history(true));
+    let n_kept = kept.iter().filter(|h| h.y == 4.0).count();
+    let n_dropped = dropped.iter().filter(|h| h.y == 1.0).count();
+    assert!(
+        n_kept * 100 >= surfaces * 99,
+        "kept on {n_kept} of {surfaces} pixels"
+    );
+    assert_eq!(n_dropped, surfaces, "turned normals rejected");
+    assert!(
+        out.iter().zip(&f.raw).all(|(a, b)| a == b),
+        "no history: the raw AO"
+    );
 }
