@@ -153,6 +153,10 @@ pub struct EvalArgs {
     /// Degrees the orbit turns per frame (with --frames > 1).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub orbit_step: f32,
+    /// Give obscura the view's depth rasterized with 4× MSAA (resolved by obscura; normals
+    /// reconstructed from it) instead of single-sampled depth. Single frames only.
+    #[arg(long, conflicts_with = "sensor")]
+    pub msaa: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -411,6 +415,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     if a.frames == 0 || a.frames > 1000 {
         bail!("--frames must be in 1..=1000 (got {})", a.frames);
     }
+    if a.msaa && a.frames > 1 {
+        bail!("--msaa evaluates single frames (the orbit rasterizes single-sampled depth)");
+    }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
         bail!(
             "--orbit-step must be degrees within ±90 (got {})",
@@ -608,7 +615,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // Screen-space AO in each mode, timed interleaved.
         let gpu_mesh = raster.upload(&ctx, &mesh)?;
         let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
-        let mut input = g.ao_input(&cam, a.normals == NormalSource::Gbuffer);
+        let msaa = if a.msaa {
+            Some(raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, w, h)?)
+        } else {
+            None
+        };
+        let mut input = match &msaa {
+            Some(m) => m.ao_input(&cam),
+            None => g.ao_input(&cam, a.normals == NormalSource::Gbuffer),
+        };
         let noisy = match a.sensor {
             SensorArg::None => None,
             SensorArg::Kinect => Some(sensor::Sensor::Kinect),
