@@ -205,8 +205,9 @@ impl GBufferRenderer {
         width: u32,
         height: u32,
     ) -> Result<GBuffer, SceneError> {
-        let depth = self.target(ctx, camera, width, height, DEPTH_FORMAT, 1)?;
-        let normals = self.target(ctx, camera, width, height, NORMAL_FORMAT, 1)?;
+        self.set_camera(ctx, camera, width, height)?;
+        let depth = target(ctx, width, height, DEPTH_FORMAT, 1);
+        let normals = target(ctx, width, height, NORMAL_FORMAT, 1);
         let depth_view = depth.create_view(&Default::default());
         let normals_view = normals.create_view(&Default::default());
         self.draw(ctx, mesh, &self.pipeline, Some(&normals_view), &depth_view)?;
@@ -230,7 +231,8 @@ impl GBufferRenderer {
         width: u32,
         height: u32,
     ) -> Result<MsaaDepth, SceneError> {
-        let depth = self.target(ctx, camera, width, height, DEPTH_FORMAT, MSAA_SAMPLES)?;
+        self.set_camera(ctx, camera, width, height)?;
+        let depth = target(ctx, width, height, DEPTH_FORMAT, MSAA_SAMPLES);
         let depth_view = depth.create_view(&Default::default());
         self.draw(ctx, mesh, &self.msaa_pipeline, None, &depth_view)?;
         Ok(MsaaDepth {
@@ -241,16 +243,14 @@ impl GBufferRenderer {
         })
     }
 
-    /// Checks the camera and size, uploads the camera, and creates one render target.
-    fn target(
+    /// Checks the camera and the size, and uploads the camera for the next draw.
+    fn set_camera(
         &self,
         ctx: &GpuContext,
         camera: &Camera,
         width: u32,
         height: u32,
-        format: wgpu::TextureFormat,
-        samples: u32,
-    ) -> Result<wgpu::Texture, SceneError> {
+    ) -> Result<(), SceneError> {
         camera.validate()?;
         let max = ctx.device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
@@ -263,32 +263,7 @@ impl GBufferRenderer {
         };
         ctx.queue
             .write_buffer(&self.camera, 0, bytemuck::bytes_of(&uniform));
-        // Multisampled textures cannot be copied out; single-sampled ones can (tests).
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | if samples == 1 {
-                wgpu::TextureUsages::COPY_SRC
-            } else {
-                wgpu::TextureUsages::empty()
-            };
-        Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(if format == DEPTH_FORMAT {
-                "gbuffer depth"
-            } else {
-                "gbuffer normals"
-            }),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: samples,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        }))
+        Ok(())
     }
 
     /// Draws `mesh` with `pipeline` into the targets, waiting for completion.
@@ -348,4 +323,40 @@ impl GBufferRenderer {
         })?;
         Ok(())
     }
+}
+
+/// One render target of `format` and `samples` per pixel (the size checked by `set_camera`).
+fn target(
+    ctx: &GpuContext,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+    samples: u32,
+) -> wgpu::Texture {
+    // Multisampled textures cannot be copied out; single-sampled ones can (tests).
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | if samples == 1 {
+            wgpu::TextureUsages::COPY_SRC
+        } else {
+            wgpu::TextureUsages::empty()
+        };
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(if format == DEPTH_FORMAT {
+            "gbuffer depth"
+        } else {
+            "gbuffer normals"
+        }),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: samples,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
