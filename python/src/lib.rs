@@ -254,7 +254,7 @@ fn job(
 /// call `render` for each map (a loop over thousands of maps pays the set-up once).
 ///
 /// Args:
-///     estimator: "gtao" (default), "hbao", "vo", "vao" or "sao".
+///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao" or "vo-area".
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel.
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".

@@ -66,7 +66,7 @@ pub struct EvalArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "gtao,hbao,vo,vao,sao"
+        default_value = "gtao,hbao,vo,vao,sao,vo-area"
     )]
     pub estimators: Vec<EstimatorArg>,
     #[command(flatten)]
@@ -1323,8 +1323,10 @@ fn frontier_plot(means: &[VariantMean]) -> String {
     let emax = means.iter().map(|v| v.rmse).fold(1e-9, f64::max) * 1.05;
     let px = |t: f64| m + t / tmax * w;
     let py = |e: f64| 20.0 + h - e / emax * h;
-    let estimators = ["gtao", "hbao", "vo", "vao", "sao"];
-    let colors = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#e6730f"];
+    let estimators = ["gtao", "hbao", "vo", "vao", "sao", "vo-area"];
+    let colors = [
+        "#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#e6730f", "#17becf",
+    ];
     let color = |e: &str| {
         estimators
             .iter()

@@ -52,6 +52,9 @@ pub enum EstimatorArg {
     Vao,
     /// Scalable Ambient Obscurance (McGuire et al. 2012), depth-pyramid sampled.
     Sao,
+    /// Volumetric Obscurance's area integral (Loos & Sloan 2010): depth mean and variance
+    /// over each sample's share of the disk.
+    VoArea,
 }
 
 impl From<EstimatorArg> for Estimator {
@@ -62,6 +65,7 @@ impl From<EstimatorArg> for Estimator {
             EstimatorArg::Vo => Estimator::Vo,
             EstimatorArg::Vao => Estimator::Vao,
             EstimatorArg::Sao => Estimator::Sao,
+            EstimatorArg::VoArea => Estimator::VoArea,
         }
     }
 }

@@ -7,6 +7,9 @@
 //   along the normal, so it touches the tangent plane: AO = 1 − occupied, no tangent maths.
 // SPHERE_OFFSET (0 for VO, 0.5 for VAO) selects which. Samples: DIRECTIONS × STEPS points of
 // the sphere's screen disk, area-uniform in radius, rotated and offset by the pattern.
+// How a sample's chord is read comes from a fragment: sphere_line.wgsl (one depth: the line
+// integral) or sphere_area.wgsl (VO's area integral: the depth moments of the sample's
+// share of the disk), as `sample_level` and `chord_occupied`.
 // Composed like hbao.wgsl with an entry fragment (`snap_offset`, `sample_depth`).
 // CPU mirror: src/reference.rs, `sphere_pixel`.
 
@@ -21,6 +24,14 @@ fn project_to_pixel(v: vec3<f32>) -> vec2<f32> {
         xy = xy / -v.z;
     }
     return vec2<f32>((xy.x + 1.0) * 0.5 / frame.inv_size.x, (1.0 - xy.y) * 0.5 / frame.inv_size.y);
+}
+
+// The occupied length of the chord dc ± h by a surface at depth sd > 0. The solid behind
+// the visible surface is SPHERE_THICKNESS radii deep (Loos & Sloan's thickness model), not
+// infinite: a foreground object far in front of the sphere does not fill the chords behind it.
+fn occupied_length(sd: f32, dc: f32, h: f32) -> f32 {
+    let back = sd + SPHERE_THICKNESS * frame.radius;
+    return clamp(min(dc + h, back) - max(sd, dc - h), 0.0, 2.0 * h);
 }
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
@@ -39,6 +50,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     // The sphere's screen radius, from radius_px's projection at the centre's depth.
     let rs_px = radius_px(dc) * (1.0 - SPHERE_OFFSET);
     let c_px = project_to_pixel(c) - (vec2<f32>(p) + 0.5);
+    let level = sample_level(rs_px);
     var occupied = 0.0;
     var total = 0.0;
     for (var i = 0u; i < DIRECTIONS; i++) {
@@ -51,22 +63,15 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             if any(q < vec2<i32>(0)) || any(q >= vec2<i32>(frame.size)) {
                 continue;
             }
-            // The chord through the sample's pixel at the centre's depth.
-            let lateral = view_position(vec2<f32>(q) + 0.5, dc).xy - c.xy;
+            // The chord through the sample's pixel (or moments texel) at the centre's depth.
+            let lateral = view_position(chord_point(q, level), dc).xy - c.xy;
             let l2 = dot(lateral, lateral) / (rs * rs);
             if l2 >= 1.0 {
                 continue;
             }
             let h = rs * sqrt(1.0 - l2);
             total += 2.0 * h;
-            let sd = sample_depth(q);
-            if sd > 0.0 {
-                // The solid behind the visible surface is SPHERE_THICKNESS radii deep
-                // (Loos & Sloan's thickness model), not infinite: a foreground object far
-                // in front of the sphere does not fill the chords behind it.
-                let back = sd + SPHERE_THICKNESS * frame.radius;
-                occupied += clamp(min(dc + h, back) - max(sd, dc - h), 0.0, 2.0 * h);
-            }
+            occupied += chord_occupied(q, level, dc, h);
         }
     }
     if total <= 0.0 {

@@ -14,12 +14,13 @@
 //! Estimators that read the depth pyramid (SAO), and the classified upsampler, get its levels
 //! built between prepare and the AO pass: `pyramid_from_full` (or `_from_layers`), then one
 //! `pyramid_levels` pass per four further levels on GPUs, one `pyramid` pass per level on CPU
-//! adapters ([`crate::PyramidBuild`]).
+//! adapters ([`crate::PyramidBuild`]). VO's area integral gets a moments pyramid of the same
+//! size the same way, one `moments` pass per level.
 
 use crate::layout::layer_size;
 use crate::shader::{
     dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, HISTORY_FORMAT,
-    LINEAR_DEPTH_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
     RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
@@ -68,6 +69,10 @@ enum Res {
     Pyramid,
     /// One mip of the pyramid.
     PyramidMip(u32),
+    /// `moments`: the pyramid's size and mips, MOMENTS_FORMAT (VO's area integral).
+    Moments,
+    /// One mip of the moments pyramid.
+    MomentsMip(u32),
     /// `ao_work`: work size, AO_FORMAT (when post-processing follows the AO pass).
     AoWork,
     /// `ao_tmp`: work size, AO_FORMAT (between the temporal pass and the denoiser).
@@ -112,8 +117,8 @@ enum Grid {
     Level(u32),
     /// Work layer texels × N² layers.
     Layers,
-    /// One dispatch per pyramid mip after the first, or per four of them (each reads the
-    /// mip above).
+    /// One dispatch per pyramid (or moments) mip after the first, or per four of them (each
+    /// reads the mip above).
     PyramidMips,
     /// Pyramid mip 0.
     PyramidBase,
@@ -203,6 +208,23 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         };
         steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
     }
+    if o.estimator.uses_moments() {
+        let (source, from) = if fused_prepare {
+            (PyramidSource::Layers, Res::PreparedLayers)
+        } else {
+            (PyramidSource::Full, full_depth)
+        };
+        steps.push(step(
+            Pass::Moments { source },
+            vec![(1, from), (2, Res::MomentsMip(0))],
+            FrameAt::Full,
+            Grid::PyramidBase,
+        ));
+        let mips = Pass::Moments {
+            source: PyramidSource::Mip,
+        };
+        steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
+    }
     let first_downsample = if fused_down { 2 } else { 1 };
     for k in first_downsample..=work_level.max(up_level) {
         steps.push(step(
@@ -219,6 +241,9 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     let pyramid = |mut v: Vec<(u32, Res)>| {
         if o.estimator.uses_pyramid() {
             v.push((3, Res::Pyramid));
+        }
+        if o.estimator.uses_moments() {
+            v.push((3, Res::Moments));
         }
         v
     };
@@ -629,6 +654,10 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, dim(source == PyramidSource::Layers)),
             storage_entry(2, PYRAMID_FORMAT, D2),
         ],
+        Pass::Moments { source } => vec![
+            texture_entry(1, UNFILTERED, dim(source == PyramidSource::Layers)),
+            storage_entry(2, MOMENTS_FORMAT, D2),
+        ],
         Pass::PyramidLevels => std::iter::once(texture_entry(1, UNFILTERED, D2))
             .chain((2..2 + PYRAMID_LEVELS_PER_PASS).map(|b| storage_entry(b, PYRAMID_FORMAT, D2)))
             .collect(),
@@ -679,7 +708,9 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         ],
     };
     let pyramid = match pass {
-        Pass::AoFull { estimator } | Pass::AoLayered { estimator, .. } => estimator.uses_pyramid(),
+        Pass::AoFull { estimator } | Pass::AoLayered { estimator, .. } => {
+            estimator.uses_pyramid() || estimator.uses_moments()
+        }
         _ => false,
     };
     let rest = rest
@@ -1111,6 +1142,7 @@ impl Ao {
             for &(_, r) in &st.views {
                 let rs = match r {
                     Res::PyramidMip(_) => vec![Res::Pyramid],
+                    Res::MomentsMip(_) => vec![Res::Moments],
                     Res::HistoryPrev | Res::HistoryNext => vec![Res::History(0), Res::History(1)],
                     r => vec![r],
                 };
@@ -1139,6 +1171,12 @@ impl Ao {
                         1,
                         PYRAMID_FORMAT,
                     ),
+                    Res::Moments | Res::MomentsMip(_) => (
+                        "obscura depth moments",
+                        (1.max(size[0] >> 1), 1.max(size[1] >> 1)),
+                        1,
+                        MOMENTS_FORMAT,
+                    ),
                     Res::AoWork => ("obscura ao work", work, 1, AO_FORMAT),
                     Res::AoTmp => ("obscura ao blur", work, 1, AO_FORMAT),
                     Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
@@ -1148,7 +1186,7 @@ impl Ao {
                         unreachable!("the output is created on demand; history resolves by parity")
                     }
                 };
-                let mips = if r == Res::Pyramid {
+                let mips = if r == Res::Pyramid || r == Res::Moments {
                     dims.0.max(dims.1).ilog2() + 1
                 } else {
                     1
@@ -1165,9 +1203,10 @@ impl Ao {
         let find = |r: Res| textures.iter().find(|t| t.0 == r);
         let mip_views = std::cell::Cell::new(0);
         let placeholders = std::cell::Cell::new(0);
-        let mip_view = |m: u32| {
+        // Mip m of the pyramid (or of the moments pyramid, same size).
+        let mip_view = |r: Res, m: u32| {
             mip_views.set(mip_views.get() + 1);
-            find(Res::Pyramid).map(|t| {
+            find(r).map(|t| {
                 t.1.create_view(&wgpu::TextureViewDescriptor {
                     base_mip_level: m,
                     mip_level_count: Some(1),
@@ -1175,8 +1214,9 @@ impl Ao {
                 })
             })
         };
-        let pyramid_mips = find(Res::Pyramid).map_or(0, |t| t.1.mip_level_count());
-        let pyramid_base = find(Res::Pyramid).map_or((1, 1), |t| (t.1.width(), t.1.height()));
+        let pyramid = find(Res::Pyramid).or(find(Res::Moments));
+        let pyramid_mips = pyramid.map_or(0, |t| t.1.mip_level_count());
+        let pyramid_base = pyramid.map_or((1, 1), |t| (t.1.width(), t.1.height()));
         let workgroups = |w: u32, h: u32, z: u32| {
             let (x, y) = dispatch_size([w, h]);
             [x, y, z]
@@ -1212,14 +1252,19 @@ impl Ao {
                 } else {
                     1
                 };
+                let chain = if matches!(st.pass, Pass::Moments { .. }) {
+                    Res::Moments
+                } else {
+                    Res::Pyramid
+                };
                 for m0 in (1..pyramid_mips).step_by(per as usize) {
-                    let Some(from) = mip_view(m0 - 1) else {
+                    let Some(from) = mip_view(chain, m0 - 1) else {
                         continue;
                     };
                     let outs: Vec<wgpu::TextureView> = (m0..m0 + per)
                         .filter_map(|m| {
                             if m < pyramid_mips {
-                                return mip_view(m);
+                                return mip_view(chain, m);
                             }
                             placeholders.set(placeholders.get() + 1);
                             let t = make_texture(
@@ -1251,7 +1296,8 @@ impl Ao {
                 .views
                 .iter()
                 .filter_map(|&(b, r)| match r {
-                    Res::PyramidMip(m) => mip_view(m).map(|v| (b, v)),
+                    Res::PyramidMip(m) => mip_view(Res::Pyramid, m).map(|v| (b, v)),
+                    Res::MomentsMip(m) => mip_view(Res::Moments, m).map(|v| (b, v)),
                     _ => None,
                 })
                 .collect();
@@ -1260,7 +1306,7 @@ impl Ao {
                     .views
                     .iter()
                     .filter_map(|&(b, r)| match r {
-                        Res::PyramidMip(_) => None,
+                        Res::PyramidMip(_) | Res::MomentsMip(_) => None,
                         r => find(r.at_parity(parity)).map(|t| (b, &t.2)),
                     })
                     .chain(mips.iter().map(|(b, v)| (*b, v)))
@@ -1625,6 +1671,12 @@ impl Ao {
     /// when the estimator or the upsampler uses one.
     pub fn pyramid(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Pyramid))
+    }
+
+    /// The depth moments pyramid (`Rgba32Float`, `vec4(valid fraction, mean, variance, 0)`
+    /// of linear depth, mip m = level m + 1) when the estimator is VO's area integral.
+    pub fn moments(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::Moments))
     }
 
     /// The prepared buffer downsampled `k ≥ 1` times by the depth rule (below full

@@ -44,16 +44,24 @@ pub enum Estimator {
     /// distance calls for (level ⌊log2(r_px / 8)⌋), Alchemy AO's obscurance sum with
     /// σ = R (see shaders/sao.wgsl). Samples/pixel = directions × steps.
     Sao,
+    /// Volumetric Obscurance's area integral (Loos & Sloan 2010): VO's sphere and samples,
+    /// but each sample stands for its share of the sphere's screen disk and reads the mean
+    /// and variance of depth over a texel of that area (a moments pyramid, built by extra
+    /// passes); the chord's occupied length is its expectation over that texel's depths,
+    /// taken as uniform with that mean and variance (shaders/sphere_area.wgsl).
+    /// Samples/pixel = directions × steps.
+    VoArea,
 }
 
 impl Estimator {
     /// Every estimator.
-    pub const ALL: [Estimator; 5] = [
+    pub const ALL: [Estimator; 6] = [
         Estimator::Hbao,
         Estimator::Gtao,
         Estimator::Vo,
         Estimator::Vao,
         Estimator::Sao,
+        Estimator::VoArea,
     ];
 
     /// Short name used by the CLI, labels and reports.
@@ -64,6 +72,7 @@ impl Estimator {
             Estimator::Vo => "vo",
             Estimator::Vao => "vao",
             Estimator::Sao => "sao",
+            Estimator::VoArea => "vo-area",
         }
     }
 
@@ -71,12 +80,17 @@ impl Estimator {
     pub fn uses_pyramid(self) -> bool {
         self == Estimator::Sao
     }
+
+    /// Whether the estimator reads the depth moments pyramid (built by extra passes).
+    pub fn uses_moments(self) -> bool {
+        self == Estimator::VoArea
+    }
 }
 
 /// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
 /// that a preset costs the same number of samples per pixel with every estimator:
 ///
-/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO, SAO directions × steps |
+/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO, SAO, VO-area directions × steps |
 /// |---|---|---|---|
 /// | `Low` | 8 | 2 × 2 | 4 × 2 |
 /// | `Medium` | 16 | 2 × 4 | 4 × 4 |
@@ -630,9 +644,11 @@ impl AoOptions {
     pub fn samples_per_pixel(&self) -> u32 {
         match self.estimator {
             Estimator::Gtao => 2 * self.directions * self.steps,
-            Estimator::Hbao | Estimator::Vo | Estimator::Vao | Estimator::Sao => {
-                self.directions * self.steps
-            }
+            Estimator::Hbao
+            | Estimator::Vo
+            | Estimator::Vao
+            | Estimator::Sao
+            | Estimator::VoArea => self.directions * self.steps,
         }
     }
 }

@@ -54,6 +54,9 @@ pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Flo
 pub const RESOLVED_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
 pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Storage format of the depth moments pyramid: `vec4(valid fraction, mean, variance, 0)`
+/// of linear depth (shaders/moments.wgsl), read by VO's area integral.
+pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
 /// the denoiser, temporal reprojection): a sample farther than this fraction of the depth
@@ -192,6 +195,9 @@ pub enum Pass {
     Pyramid { source: PyramidSource },
     /// The next [`PYRAMID_LEVELS_PER_PASS`] levels of the pyramid from the one above.
     PyramidLevels,
+    /// One level of the depth moments pyramid (VO's area integral), from linear depth or
+    /// from the level above ([`PyramidSource::Mip`]).
+    Moments { source: PyramidSource },
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
     /// Low-resolution AO → full resolution.
@@ -242,6 +248,7 @@ impl Pass {
             PyramidSource::Mip,
         ] {
             v.push(Pass::Pyramid { source });
+            v.push(Pass::Moments { source });
         }
         v.push(Pass::PyramidLevels);
         v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
@@ -286,6 +293,11 @@ impl Pass {
                 PyramidSource::Mip => "pyramid",
             },
             Pass::PyramidLevels => "pyramid_levels",
+            Pass::Moments { source } => match source {
+                PyramidSource::Full => "moments_from_full",
+                PyramidSource::Layers => "moments_from_layers",
+                PyramidSource::Mip => "moments",
+            },
             Pass::Downsample { rule, .. } => match rule {
                 DepthDownsample::Max => "downsample_max",
                 DepthDownsample::Min => "downsample_min",
@@ -313,8 +325,17 @@ impl Pass {
         let estimator_source = |e: Estimator| match e {
             Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
             Estimator::Gtao => include_str!("../shaders/gtao.wgsl"),
-            Estimator::Vo | Estimator::Vao => include_str!("../shaders/sphere.wgsl"),
+            Estimator::Vo | Estimator::Vao | Estimator::VoArea => {
+                include_str!("../shaders/sphere.wgsl")
+            }
             Estimator::Sao => include_str!("../shaders/sao.wgsl"),
+        };
+        // How sphere.wgsl reads a chord: one depth (VO, VAO) or a texel's depth moments
+        // (VO's area integral).
+        let sphere_chord = |e: Estimator| match e {
+            Estimator::Vo | Estimator::Vao => Some(include_str!("../shaders/sphere_line.wgsl")),
+            Estimator::VoArea => Some(include_str!("../shaders/sphere_area.wgsl")),
+            _ => None,
         };
         const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
@@ -370,20 +391,26 @@ impl Pass {
                 }
                 v
             }
-            Pass::AoFull { estimator } => vec![
-                estimator_source(estimator),
-                STORE_AO_FULL,
-                include_str!("../shaders/ao_full.wgsl"),
-            ],
-            Pass::AoLayered { merge, estimator } => vec![
-                estimator_source(estimator),
-                if merge {
-                    STORE_AO_FULL
-                } else {
-                    STORE_AO_LAYERS
-                },
-                include_str!("../shaders/ao_layered.wgsl"),
-            ],
+            Pass::AoFull { estimator } => sphere_chord(estimator)
+                .into_iter()
+                .chain([
+                    estimator_source(estimator),
+                    STORE_AO_FULL,
+                    include_str!("../shaders/ao_full.wgsl"),
+                ])
+                .collect(),
+            Pass::AoLayered { merge, estimator } => sphere_chord(estimator)
+                .into_iter()
+                .chain([
+                    estimator_source(estimator),
+                    if merge {
+                        STORE_AO_FULL
+                    } else {
+                        STORE_AO_LAYERS
+                    },
+                    include_str!("../shaders/ao_layered.wgsl"),
+                ])
+                .collect(),
             Pass::Deinterleave => vec![
                 STORE_PREPARED_LAYERS,
                 include_str!("../shaders/deinterleave.wgsl"),
@@ -398,6 +425,14 @@ impl Pass {
                 include_str!("../shaders/pyramid.wgsl"),
             ],
             Pass::PyramidLevels => vec![include_str!("../shaders/pyramid_levels.wgsl")],
+            Pass::Moments { source } => vec![
+                match source {
+                    PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
+                    PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
+                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
+                },
+                include_str!("../shaders/moments.wgsl"),
+            ],
             Pass::Downsample { .. } => {
                 vec![DOWNSAMPLE_RULE, include_str!("../shaders/downsample.wgsl")]
             }
@@ -446,10 +481,12 @@ impl Pass {
             ("DIRECTIONS", options.directions as f64),
             ("STEPS", options.steps as f64),
         ];
-        // sphere.wgsl serves VO (sphere on the surface) and VAO (sphere offset R/2).
+        // sphere.wgsl serves VO and its area integral (sphere on the surface) and VAO
+        // (sphere offset R/2).
         let sphere = |e: Estimator| match e {
             Estimator::Vo => vec![("SPHERE_OFFSET", 0.0)],
             Estimator::Vao => vec![("SPHERE_OFFSET", 0.5)],
+            Estimator::VoArea => vec![("SPHERE_OFFSET", 0.0)],
             _ => vec![],
         };
         let rule = |rule: DepthDownsample, level: u32| {
@@ -485,6 +522,14 @@ impl Pass {
             | Pass::Pyramid {
                 source: PyramidSource::Layers,
             } => vec![split],
+            Pass::Moments { source } => {
+                let depth = ("FROM_DEPTH", (source != PyramidSource::Mip) as u32 as f64);
+                if source == PyramidSource::Layers {
+                    vec![split, depth]
+                } else {
+                    vec![depth]
+                }
+            }
             Pass::Pyramid { .. } | Pass::PyramidLevels | Pass::ResolveDepth => vec![],
             Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
             Pass::Downsample { rule: r, level } => rule(r, level),
@@ -521,6 +566,7 @@ fn ao_label(e: Estimator, kind: usize) -> &'static str {
         Estimator::Vo => ["vo", "vo_layers_merge", "vo_layers"],
         Estimator::Vao => ["vao", "vao_layers_merge", "vao_layers"],
         Estimator::Sao => ["sao", "sao_layers_merge", "sao_layers"],
+        Estimator::VoArea => ["vo_area", "vo_area_layers_merge", "vo_area_layers"],
     };
     names[kind]
 }

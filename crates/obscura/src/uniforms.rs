@@ -115,7 +115,9 @@ impl FrameUniforms {
                     params.strength / (options.directions as f32 * (1.0 - sin_bias))
                 }
                 crate::Estimator::Gtao => params.strength / options.directions as f32,
-                crate::Estimator::Vo | crate::Estimator::Vao => params.strength,
+                crate::Estimator::Vo | crate::Estimator::Vao | crate::Estimator::VoArea => {
+                    params.strength
+                }
                 // Alchemy AO's 2σ/s with σ = R folded into the sum (shaders/sao.wgsl).
                 crate::Estimator::Sao => {
                     2.0 * params.strength / (options.directions * options.steps) as f32
