@@ -26,6 +26,7 @@
 //! Every input is validated before any GPU work; errors are typed ([`Error`]).
 
 pub mod ao;
+pub mod budget;
 pub mod context;
 pub mod depth_map;
 pub mod error;
