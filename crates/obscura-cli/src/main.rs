@@ -1,6 +1,7 @@
 //! `obscura`: screen-space ambient occlusion from the command line.
 
 mod bench;
+mod budget;
 mod depthmap;
 mod eval;
 mod output;

@@ -356,6 +356,13 @@ pub struct RenderArgs {
     /// Folder for the --orbit frames (frame_0000.png, ...); created if missing.
     #[arg(long, value_name = "DIR", requires = "orbit")]
     pub out_dir: Option<PathBuf>,
+    /// Hold this many milliseconds per AO frame over the --orbit: each frame runs at the
+    /// level (working resolution and preset, quarter low .. full ultra) that
+    /// `obscura::budget::BudgetController` chooses from the measured times; overrides
+    /// --resolution and the preset. Prints each frame's time and level and writes
+    /// budget.csv and budget.svg to --out-dir.
+    #[arg(long, value_name = "MS", requires = "orbit")]
+    pub budget_ms: Option<f64>,
 }
 
 fn parse_bits(s: &str) -> Result<u8, String> {
@@ -403,6 +410,11 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
         }
         if a.msaa {
             bail!("--msaa renders a still camera; --orbit rasterizes single-sampled G-buffers");
+        }
+    }
+    if let Some(b) = a.budget_ms {
+        if !(b.is_finite() && b > 0.0 && b <= 1e6) {
+            bail!("--budget-ms must be a number of milliseconds in (0, 1e6] (got {b})");
         }
     }
     check_ao_path(&a.out)?;
@@ -619,6 +631,19 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             options.downsample.name(),
             options.upsample.name(),
             options.denoise.name()
+        );
+    }
+    if let (Some(degrees), Some(dir), Some(budget)) = (a.orbit, &a.out_dir, a.budget_ms) {
+        return crate::budget::orbit(
+            a,
+            &ctx,
+            &raster,
+            &gpu_mesh,
+            &cam,
+            options,
+            &params,
+            (degrees, budget),
+            dir,
         );
     }
     if let (Some(degrees), Some(dir)) = (a.orbit, &a.out_dir) {

@@ -135,6 +135,93 @@ fn render_msaa_resolves_multisampled_depth() {
     );
 }
 
+/// `render --orbit --budget-ms`: with a budget no level can miss, the controller climbs to
+/// the top of the ladder once the first level has settled (3 frames); with one no level
+/// can meet, it never leaves the cheapest. Each frame is a row of budget.csv, the plot is
+/// written, and a bad budget is refused before any work.
+#[test]
+fn render_orbit_holds_a_budget_by_level() {
+    let levels = |budget: &str| -> Vec<String> {
+        let d = scratch(&format!("budget-{budget}"));
+        let out = obscura(&[
+            "render",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--orbit",
+            "20",
+            "--frames",
+            "6",
+            "--out-dir",
+            s(&d),
+            "--out",
+            s(&d.join("ao.png")),
+            "--budget-ms",
+            budget,
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains("frame    5: level"), "per-frame lines: {err}");
+        assert!(d.join("frame_0005.png").exists() && d.join("budget.svg").exists());
+        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
+        let rows: Vec<String> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(2).unwrap().to_string() + " " + l.split(',').nth(3).unwrap())
+            .collect();
+        std::fs::remove_dir_all(d).unwrap();
+        rows
+    };
+    let generous = levels("1000000");
+    assert_eq!(generous.len(), 6);
+    assert!(
+        generous[..3].iter().all(|l| l == "quarter low"),
+        "{generous:?}"
+    );
+    assert!(
+        generous[3..].iter().all(|l| l == "full ultra"),
+        "{generous:?}"
+    );
+    let impossible = levels("0.001");
+    assert!(
+        impossible.iter().all(|l| l == "quarter low"),
+        "{impossible:?}"
+    );
+    let d = scratch("budget-bad");
+    assert_fails(
+        "budget-negative",
+        &[
+            "render",
+            "--orbit",
+            "10",
+            "--out-dir",
+            s(&d),
+            "--budget-ms=-5",
+        ],
+        "--budget-ms must be",
+    );
+    assert_fails(
+        "budget-nan",
+        &[
+            "render",
+            "--orbit",
+            "10",
+            "--out-dir",
+            s(&d),
+            "--budget-ms",
+            "NaN",
+        ],
+        "--budget-ms must be",
+    );
+    assert_fails(
+        "budget-without-orbit",
+        &["render", "--budget-ms", "20"],
+        "--orbit",
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}
+
 fn assert_fails(name: &str, args: &[&str], message: &str) {
     let d = scratch(name);
     let ao = d.join("ao.png");

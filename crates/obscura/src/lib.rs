@@ -3,7 +3,7 @@
 //! Screen-space ambient occlusion from a depth buffer, as wgpu compute passes.
 //!
 //! ```text
-//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──GTAO | HBAO | VO | VAO | SAO──▶ AO
+//! depth (+ normals) ──prepare──▶ vec4(linear depth, view normal) ──GTAO | HBAO | VO | VAO | SAO | VO-area──▶ AO
 //!   (N×N deinterleaved layers in the default mode, merged on write; or at half/quarter
 //!    resolution: downsampled by a depth rule, upsampled depth-aware)
 //! ```

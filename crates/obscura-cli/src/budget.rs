@@ -1,0 +1,274 @@
+//! `render --orbit ... --budget-ms X`: the orbit of `render --orbit`, each frame at the level
+//! of a ladder of AO settings that `obscura::budget::BudgetController` chooses to hold the
+//! budget; prints each frame's time and level, and writes `budget.csv` and `budget.svg`
+//! (time and level per frame) beside the frames.
+
+use anyhow::{Context, Result};
+use obscura::budget::BudgetController;
+use obscura::{Ao, AoOptions, AoParams, CameraMotion, GpuContext, Preset, Resolution};
+use obscura_scene::{Camera, GBufferRenderer, GpuMesh};
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::output::save_ao;
+use crate::render::{NormalSource, RenderArgs};
+
+/// The ladder, from the most error to the least: working resolution and preset. The order
+/// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE
+/// against ray-traced AO over the shared views; docs/frontier.md, docs/sample-reuse.md):
+/// half low 0.1017, medium 0.0985, high 0.0910; full low 0.0810, medium 0.0677, high
+/// 0.0605, ultra 0.0568. Full resolution at the low preset beats half at the high one, so
+/// resolution comes before samples; quarter resolution (not in those tables) goes below
+/// half. The levels' costs are measured on the first view, not assumed.
+pub const LADDER: [(Resolution, Preset); 10] = [
+    (Resolution::Quarter, Preset::Low),
+    (Resolution::Quarter, Preset::Medium),
+    (Resolution::Quarter, Preset::High),
+    (Resolution::Half, Preset::Low),
+    (Resolution::Half, Preset::Medium),
+    (Resolution::Half, Preset::High),
+    (Resolution::Full, Preset::Low),
+    (Resolution::Full, Preset::Medium),
+    (Resolution::Full, Preset::High),
+    (Resolution::Full, Preset::Ultra),
+];
+
+fn preset_name(p: Preset) -> &'static str {
+    match p {
+        Preset::Low => "low",
+        Preset::Medium => "medium",
+        Preset::High => "high",
+        Preset::Ultra => "ultra",
+    }
+}
+
+/// One frame of the run: level, milliseconds.
+type Frame = (usize, f64);
+
+/// Runs the orbit under the budget; `base` carries the estimator, layout, denoiser and
+/// history (resolution and preset come from the ladder).
+#[allow(clippy::too_many_arguments)]
+pub fn orbit(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    raster: &GBufferRenderer,
+    mesh: &GpuMesh,
+    cam: &Camera,
+    base: AoOptions,
+    params: &AoParams,
+    (degrees, budget_ms): (f32, f64),
+    dir: &Path,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    // Every level is created and warmed up on the first view (shader compilation and its
+    // textures), then timed there: those times are the controller's nominal costs, and no
+    // GPU object is created during the orbit.
+    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
+    let mut levels = Vec::with_capacity(LADDER.len());
+    for (resolution, preset) in LADDER {
+        let o = AoOptions {
+            resolution,
+            ..AoOptions::preset(base.estimator, preset)
+        };
+        let mut ao = Ao::new(
+            &ctx.device,
+            AoOptions {
+                resolution,
+                directions: o.directions,
+                steps: o.steps,
+                ..base
+            },
+        )?;
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
+        levels.push(ao);
+    }
+    // Median of three runs per level, interleaved (CPU adapters' times vary by ±20%).
+    let mut runs = vec![Vec::new(); levels.len()];
+    for _ in 0..3 {
+        for (ao, times) in levels.iter_mut().zip(&mut runs) {
+            let t = Instant::now();
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let mut nominal: Vec<f64> = runs
+        .into_iter()
+        .map(|mut t| {
+            t.sort_by(f64::total_cmp);
+            t[1]
+        })
+        .collect();
+    let name = |k: usize| format!("{} {}", LADDER[k].0.name(), preset_name(LADDER[k].1));
+    eprintln!(
+        "budget: {budget_ms} ms per frame; levels (measured on the first view): {}",
+        (0..levels.len())
+            .map(|k| format!("{k} {} {:.1} ms", name(k), nominal[k]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    // Nominal costs must rise with the level; a flat or inverted pair (timing noise) is
+    // lifted just above the one below.
+    for k in 1..nominal.len() {
+        nominal[k] = nominal[k].max(nominal[k - 1] * 1.001);
+    }
+    let mut control =
+        BudgetController::new(budget_ms, &nominal).context("the budget must be > 0 ms")?;
+    let n = a.frames;
+    let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
+    let mut previous: Option<(Camera, usize)> = None;
+    for k in 0..n {
+        let turn = if n > 1 {
+            degrees * k as f32 / (n - 1) as f32
+        } else {
+            0.0
+        };
+        let c = cam.orbit(turn);
+        let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
+        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
+        let level = control.level();
+        let ao = &mut levels[level];
+        // A level's history is from the last frame it ran, not the previous one: restart it.
+        let motion = match previous {
+            Some((prev, l)) if l == level => c.motion_since(&prev),
+            Some(_) => {
+                ao.restart();
+                CameraMotion::Cut
+            }
+            None => CameraMotion::Cut,
+        };
+        let p = AoParams { motion, ..*params };
+        let t = Instant::now();
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        control.update(ms);
+        frames.push((level, ms));
+        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
+        let path = dir.join(format!("frame_{k:04}.png"));
+        save_ao(&path, &values, a.width, a.height, a.bits)?;
+        eprintln!(
+            "frame {k:4}: level {level} ({}) {ms:6.1} ms ({:+.0}% of the budget)",
+            name(level),
+            (ms / budget_ms - 1.0) * 100.0
+        );
+        previous = Some((c, level));
+    }
+    let within = frames
+        .iter()
+        .filter(|f| (f.1 / budget_ms - 1.0).abs() <= 0.15)
+        .count();
+    let mut times: Vec<f64> = frames.iter().map(|f| f.1).collect();
+    times.sort_by(f64::total_cmp);
+    eprintln!(
+        "budget: {within} of {n} frames within ±15% of {budget_ms} ms; median {:.1} ms, \
+         {} level changes",
+        times[times.len() / 2],
+        frames.windows(2).filter(|w| w[0].0 != w[1].0).count()
+    );
+    let mut csv = String::from("frame,level,resolution,preset,ms\n");
+    for (k, (level, ms)) in frames.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{k},{level},{},{},{ms:.3}",
+            LADDER[*level].0.name(),
+            preset_name(LADDER[*level].1)
+        );
+    }
+    let csv_path = dir.join("budget.csv");
+    std::fs::write(&csv_path, csv)
+        .with_context(|| format!("cannot write `{}`", csv_path.display()))?;
+    let svg_path = dir.join("budget.svg");
+    std::fs::write(&svg_path, plot(&frames, budget_ms, &name))
+        .with_context(|| format!("cannot write `{}`", svg_path.display()))?;
+    eprintln!("wrote {}, {}", csv_path.display(), svg_path.display());
+    Ok(())
+}
+
+/// Time per frame (line, left axis, with the budget and its ±15% band) and level per frame
+/// (steps, right axis).
+fn plot(frames: &[Frame], budget_ms: f64, name: &dyn Fn(usize) -> String) -> String {
+    let (w, h, left, top) = (640.0, 300.0, 60.0, 20.0);
+    let n = frames.len().max(2) as f64;
+    let tmax = frames.iter().map(|f| f.1).fold(budget_ms * 1.3, f64::max) * 1.05;
+    let levels = LADDER.len() as f64;
+    let x = |k: f64| left + k / (n - 1.0) * w;
+    let yt = |t: f64| top + h - t / tmax * h;
+    let yl = |l: f64| top + h - (l + 0.5) / levels * h;
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+        w + left + 170.0,
+        h + top + 45.0
+    );
+    let _ = writeln!(
+        s,
+        "<rect x=\"{left}\" y=\"{:.1}\" width=\"{w}\" height=\"{:.1}\" fill=\"#2ca02c\" opacity=\"0.12\"/>",
+        yt(budget_ms * 1.15),
+        yt(budget_ms * 0.85) - yt(budget_ms * 1.15)
+    );
+    let _ = writeln!(
+        s,
+        "<line x1=\"{left}\" x2=\"{0}\" y1=\"{1:.1}\" y2=\"{1:.1}\" stroke=\"#2ca02c\" stroke-dasharray=\"6 4\"/>\n<text x=\"{2}\" y=\"{3:.1}\" fill=\"#2ca02c\">budget {budget_ms} ms ± 15%</text>",
+        left + w,
+        yt(budget_ms),
+        left + 6.0,
+        yt(budget_ms * 1.15) - 4.0
+    );
+    let _ = writeln!(
+        s,
+        "<rect x=\"{left}\" y=\"{top}\" width=\"{w}\" height=\"{h}\" fill=\"none\" stroke=\"#999\"/>"
+    );
+    for k in 0..=4 {
+        let t = tmax * k as f64 / 4.0;
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{t:.0}</text>",
+            left - 4.0,
+            yt(t) + 4.0
+        );
+    }
+    for l in 0..LADDER.len() {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" fill=\"#1f77b4\">{l} {}</text>",
+            left + w + 6.0,
+            yl(l as f64) + 4.0,
+            name(l)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">frame ({} in all)</text>\n<text x=\"14\" y=\"{2}\" transform=\"rotate(-90 14 {2})\" text-anchor=\"middle\">ms per frame (black); level (blue)</text>",
+        left + w / 2.0,
+        top + h + 32.0,
+        frames.len()
+    );
+    let steps: Vec<String> = frames
+        .iter()
+        .enumerate()
+        .flat_map(|(k, f)| {
+            let y = yl(f.0 as f64);
+            [
+                format!("{:.1},{y:.1}", x(k as f64 - 0.5).max(left)),
+                format!("{:.1},{y:.1}", x(k as f64 + 0.5).min(left + w)),
+            ]
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "<polyline points=\"{}\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\" opacity=\"0.7\"/>",
+        steps.join(" ")
+    );
+    let line: Vec<String> = frames
+        .iter()
+        .enumerate()
+        .map(|(k, f)| format!("{:.1},{:.1}", x(k as f64), yt(f.1)))
+        .collect();
+    let _ = writeln!(
+        s,
+        "<polyline points=\"{}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\"/>",
+        line.join(" ")
+    );
+    s.push_str("</svg>\n");
+    s
+}
