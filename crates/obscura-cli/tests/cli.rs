@@ -418,7 +418,7 @@ fn eval_writes_report_json_and_caches_the_reference() {
         }
     }
     assert!(report.join("quality-vs-time.svg").exists());
-    // The frontier: every one of the 15 variants listed once, the fastest on it.
+    // The frontier: every one of the 18 variants listed once, the fastest on it.
     let front = &md[md
         .find("### Quality-versus-time frontier")
         .expect("frontier")..];
@@ -426,16 +426,16 @@ fn eval_writes_report_json_and_caches_the_reference() {
         .lines()
         .filter(|l| l.ends_with("**frontier** |") || l.contains("| beaten by "))
         .collect();
-    assert_eq!(listed.len(), 15, "{front}");
+    assert_eq!(listed.len(), 18, "{front}");
     assert!(listed[0].ends_with("**frontier** |"), "{front}");
     assert!(report.join("frontier.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
-    // White baseline + 5 screen-space references + 5 estimators × 3 modes.
+    // White baseline + 6 screen-space references + 6 estimators × 3 modes.
     let records = j.matches("\"view\": \"cornell\", \"variant\"").count();
-    assert_eq!(records, 21, "{j}");
+    assert_eq!(records, 25, "{j}");
     assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 4, "{j}");
     // Every estimate has its sampling error against its screen-space reference.
-    assert_eq!(j.matches("\"screen_rmse\": null").count(), 6, "{j}");
+    assert_eq!(j.matches("\"screen_rmse\": null").count(), 7, "{j}");
     // The second run finds the reference in the cache.
     let again = obscura(&args);
     assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));
