@@ -14,7 +14,7 @@ use obscura::{
     Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, GpuContext, Resolution,
     Upsampler,
 };
-use obscura_eval::{cache, metrics, sensor, views, Bvh, Falloff, TraceSettings};
+use obscura_eval::{cache, metrics, sensor, views, Bvh, Falloff, PixelSampling, TraceSettings};
 use obscura_scene::{Camera, CameraProjection, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -157,6 +157,20 @@ pub struct EvalArgs {
     /// reconstructed from it) instead of single-sampled depth. Single frames only.
     #[arg(long, conflicts_with = "sensor")]
     pub msaa: bool,
+    /// Where the reference's primary rays go: `centre` (the pixel centre, where single-
+    /// sampled depth is taken) or `msaa4` (the four 4× MSAA sample positions, a quarter of
+    /// the rays each, averaged: the AO a 4× MSAA image resolves to; judges --msaa and
+    /// single-sampled depth against the same truth).
+    #[arg(long, value_enum, default_value_t = TruthArg::Centre)]
+    pub truth: TruthArg,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TruthArg {
+    /// Primary rays through pixel centres.
+    Centre,
+    /// Primary rays through the 4× MSAA sample positions, averaged.
+    Msaa4,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -561,6 +575,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             falloff: match a.falloff {
                 FalloffArg::None => Falloff::None,
                 FalloffArg::Quadratic => Falloff::Quadratic,
+            },
+            sampling: match a.truth {
+                TruthArg::Centre => PixelSampling::Centre,
+                TruthArg::Msaa4 => PixelSampling::Msaa4,
             },
         };
         eprintln!(

@@ -1,7 +1,7 @@
 //! On-disk cache of reference images, keyed by everything that determines them: the
 //! scene file's bytes, the camera, the resolution and the trace settings (FNV-1a 64).
 
-use crate::{Falloff, ReferenceAo, TraceSettings};
+use crate::{Falloff, PixelSampling, ReferenceAo, TraceSettings};
 use obscura_scene::{Camera, CameraProjection};
 use std::path::{Path, PathBuf};
 
@@ -57,6 +57,10 @@ pub fn key(scene_bytes: &[u8], cam: &Camera, w: u32, h: u32, s: &TraceSettings) 
         Falloff::None => b"n",
         Falloff::Quadratic => b"q",
     });
+    // The centre's key is the one from before per-sample references existed.
+    if s.sampling == PixelSampling::Msaa4 {
+        f.bytes(b"msaa4");
+    }
     f.finish()
 }
 
@@ -138,6 +142,7 @@ mod tests {
             radius: 1.0,
             rays: 64,
             falloff: Falloff::None,
+            sampling: PixelSampling::Centre,
         };
         let k = key(b"scene", &cam, 8, 8, &s);
         assert_eq!(k, key(b"scene", &cam, 8, 8, &s));
@@ -147,6 +152,11 @@ mod tests {
             k,
             key(b"scene", &cam, 8, 8, &TraceSettings { rays: 65, ..s })
         );
+        let msaa = TraceSettings {
+            sampling: PixelSampling::Msaa4,
+            ..s
+        };
+        assert_ne!(k, key(b"scene", &cam, 8, 8, &msaa));
         let mut moved = cam;
         moved.eye.x += 0.001;
         assert_ne!(k, key(b"scene", &moved, 8, 8, &s));

@@ -20,6 +20,27 @@ pub enum Falloff {
     Quadratic,
 }
 
+/// Where a pixel's primary rays go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PixelSampling {
+    /// Through the pixel centre, where a single-sampled rasterizer samples depth.
+    #[default]
+    Centre,
+    /// Through the four sample positions of 4× MSAA (the standard sample locations of
+    /// Vulkan and Direct3D), a quarter of the rays each; the pixel's AO is their mean,
+    /// unoccluded (1) for samples that see sky: the AO a 4× MSAA image resolves to.
+    Msaa4,
+}
+
+/// The standard 4× MSAA sample positions within a pixel (Vulkan's standard sample
+/// locations, also Direct3D's), x right and y down from the pixel's top-left corner.
+pub const MSAA4_POSITIONS: [[f32; 2]; 4] = [
+    [0.375, 0.125],
+    [0.875, 0.375],
+    [0.125, 0.625],
+    [0.625, 0.875],
+];
+
 /// Parameters of the reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceSettings {
@@ -28,6 +49,7 @@ pub struct TraceSettings {
     /// Rays per pixel.
     pub rays: u32,
     pub falloff: Falloff,
+    pub sampling: PixelSampling,
 }
 
 /// The reference image of one view.
@@ -104,8 +126,10 @@ pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32,
 }
 
 /// Traces AO for every pixel of `camera`'s view at `width` × `height`, with primary rays
-/// through pixel centres (the rasterizer's sampling points). `progress(done_rows, rows)`
-/// is called as rows finish.
+/// through pixel centres (the rasterizer's sampling points) or the 4× MSAA sample
+/// positions ([`TraceSettings::sampling`]). The depth of a pixel is its centre's, or the
+/// mean of its samples that see a surface. `progress(done_rows, rows)` is called as rows
+/// finish.
 pub fn trace_view(
     bvh: &Bvh,
     camera: &Camera,
@@ -126,10 +150,11 @@ pub fn trace_view(
             let mut ao = vec![1.0; width as usize];
             let mut depth = vec![0.0; width as usize];
             let mut err = vec![-1.0; width as usize];
-            for x in 0..width {
+            // The surface point, normal and view depth through pixel position `at`.
+            let primary = |at: [f32; 2]| {
                 let ndc = [
-                    (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
-                    1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                    at[0] / width as f32 * 2.0 - 1.0,
+                    1.0 - at[1] / height as f32 * 2.0,
                 ];
                 let (o_view, d_view) = if ortho {
                     (
@@ -144,22 +169,56 @@ pub fn trace_view(
                 };
                 let o = view_to_world.transform_point3(o_view);
                 let d = view_to_world.transform_vector3(d_view);
-                let Some((t, tri)) = bvh.closest(o, d, f32::INFINITY) else {
-                    continue;
-                };
+                let (t, tri) = bvh.closest(o, d, f32::INFINITY)?;
                 let p = o + d * t;
                 let view_depth = -world_to_view.transform_point3(p).z;
                 if view_depth < camera.near || view_depth > camera.far {
-                    continue; // clipped by the rasterizer too
+                    return None; // clipped by the rasterizer too
                 }
                 let mut n = bvh.normal(tri).normalize_or_zero();
                 if n.dot(d) > 0.0 {
                     n = -n;
                 }
-                let (a, e) = ao_at(bvh, p, n, s, y * width + x);
-                ao[x as usize] = a;
-                depth[x as usize] = view_depth;
-                err[x as usize] = e;
+                Some((p, n, view_depth))
+            };
+            for x in 0..width {
+                let seed = y * width + x;
+                let (cx, cy) = (x as f32, y as f32);
+                match s.sampling {
+                    PixelSampling::Centre => {
+                        let Some((p, n, view_depth)) = primary([cx + 0.5, cy + 0.5]) else {
+                            continue;
+                        };
+                        let (a, e) = ao_at(bvh, p, n, s, seed);
+                        ao[x as usize] = a;
+                        depth[x as usize] = view_depth;
+                        err[x as usize] = e;
+                    }
+                    PixelSampling::Msaa4 => {
+                        let quarter = TraceSettings {
+                            rays: (s.rays / 4).max(1),
+                            ..*s
+                        };
+                        let (mut sum, mut var, mut dsum, mut hits) = (0.0, 0.0, 0.0, 0);
+                        for (i, at) in MSAA4_POSITIONS.iter().enumerate() {
+                            let Some((p, n, view_depth)) = primary([cx + at[0], cy + at[1]]) else {
+                                sum += 1.0;
+                                continue;
+                            };
+                            let (a, e) =
+                                ao_at(bvh, p, n, &quarter, seed.wrapping_mul(4) + i as u32);
+                            sum += a;
+                            var += e * e;
+                            dsum += view_depth;
+                            hits += 1;
+                        }
+                        if hits > 0 {
+                            ao[x as usize] = sum / 4.0;
+                            depth[x as usize] = dsum / hits as f32;
+                            err[x as usize] = var.sqrt() / 4.0;
+                        }
+                    }
+                }
             }
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(k, height as usize);

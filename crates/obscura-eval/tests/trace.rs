@@ -2,7 +2,7 @@
 //! within R). Tolerances: max(4 standard errors, the stated geometric error).
 
 use glam::Vec3;
-use obscura_eval::{ao_at, bvh::Tri, Bvh, Falloff, TraceSettings};
+use obscura_eval::{ao_at, bvh::Tri, Bvh, Falloff, PixelSampling, TraceSettings};
 use std::f32::consts::PI;
 
 fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> [Tri; 2] {
@@ -14,6 +14,7 @@ fn settings(radius: f32) -> TraceSettings {
         radius,
         rays: 4096,
         falloff: Falloff::None,
+        sampling: PixelSampling::Centre,
     }
 }
 
@@ -109,4 +110,63 @@ fn bottom_of_a_bowl_and_inside_a_cavity() {
     };
     let (aq, _) = ao_at(&cavity, bottom, Vec3::Y, &q, 5);
     assert!(aq > 0.2 && aq < 1.0, "{aq}");
+}
+
+/// Per-sample references put the primary rays at the 4× MSAA sample positions: a plane
+/// whose edge crosses a pixel at 0.2 of its width covers only the sample at x = 0.125.
+/// The centre reference sees sky there; the MSAA one sees the plane (depth 5, its mean
+/// over the one covered sample) and averages the sky samples in as unoccluded. Pixels
+/// wholly on either side agree.
+#[test]
+fn msaa_references_sample_the_four_standard_positions() {
+    use obscura_scene::{Camera, CameraProjection};
+    let (w, h) = (8u32, 4u32);
+    let cam = Camera {
+        eye: Vec3::ZERO,
+        target: Vec3::NEG_Z,
+        up: Vec3::Y,
+        projection: CameraProjection::Orthographic { height: 4.0 },
+        near: 0.1,
+        far: 100.0,
+    };
+    let scale = cam
+        .obscura_projection(w as f32 / h as f32)
+        .ndc_to_view_scale();
+    // View x of screen position `px` (pixels from the left).
+    let view_x = |px: f32| (px / w as f32 * 2.0 - 1.0) * scale[0];
+    let edge = view_x(3.2);
+    let plane = quad(
+        Vec3::new(-100.0, -100.0, -5.0),
+        Vec3::new(edge, -100.0, -5.0),
+        Vec3::new(edge, 100.0, -5.0),
+        Vec3::new(-100.0, 100.0, -5.0),
+    );
+    let bvh = Bvh::new(plane.to_vec());
+    let run = |sampling| {
+        let s = TraceSettings {
+            sampling,
+            rays: 16,
+            ..settings(1.0)
+        };
+        obscura_eval::trace_view(&bvh, &cam, w, h, &s, &|_, _| {})
+    };
+    let (centre, msaa) = (run(PixelSampling::Centre), run(PixelSampling::Msaa4));
+    for y in 0..h as usize {
+        let at = |x: usize| y * w as usize + x;
+        for x in 0..3 {
+            assert!(
+                (centre.depth[at(x)] - 5.0).abs() < 1e-4,
+                "{:?}",
+                centre.depth
+            );
+            assert!((msaa.depth[at(x)] - 5.0).abs() < 1e-4, "{:?}", msaa.depth);
+            assert_eq!((centre.ao[at(x)], msaa.ao[at(x)]), (1.0, 1.0));
+        }
+        assert_eq!(centre.depth[at(3)], 0.0, "the centre of pixel 3 sees sky");
+        assert!((msaa.depth[at(3)] - 5.0).abs() < 1e-4, "{:?}", msaa.depth);
+        assert_eq!(msaa.ao[at(3)], 1.0);
+        for x in 4..w as usize {
+            assert_eq!((centre.depth[at(x)], msaa.depth[at(x)]), (0.0, 0.0));
+        }
+    }
 }
