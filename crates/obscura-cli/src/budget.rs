@@ -17,17 +17,18 @@ use crate::render::{NormalSource, RenderArgs};
 /// The ladder, from the most error to the least: working resolution and preset. The order
 /// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE
 /// against ray-traced AO over the shared views; docs/frontier.md, docs/sample-reuse.md):
-/// half low 0.1017, medium 0.0985, high 0.0910; full low 0.0810, medium 0.0677, high
-/// 0.0605, ultra 0.0568. Full resolution at the low preset beats half at the high one, so
-/// resolution comes before samples; quarter resolution (not in those tables) goes below
-/// half. The levels' costs are measured on the first view, not assumed.
-pub const LADDER: [(Resolution, Preset); 10] = [
+/// half low 0.1017, medium 0.0985, high 0.0910, ultra 0.0902; full low 0.0810, medium
+/// 0.0677, high 0.0605, ultra 0.0568. Full resolution at the low preset beats half at the
+/// ultra one, so resolution comes before samples; quarter resolution (not in those tables)
+/// goes below half. The levels' costs are measured on the first view, not assumed.
+pub const LADDER: [(Resolution, Preset); 11] = [
     (Resolution::Quarter, Preset::Low),
     (Resolution::Quarter, Preset::Medium),
     (Resolution::Quarter, Preset::High),
     (Resolution::Half, Preset::Low),
     (Resolution::Half, Preset::Medium),
     (Resolution::Half, Preset::High),
+    (Resolution::Half, Preset::Ultra),
     (Resolution::Full, Preset::Low),
     (Resolution::Full, Preset::Medium),
     (Resolution::Full, Preset::High),
