@@ -20,7 +20,9 @@ use crate::render::{NormalSource, RenderArgs};
 /// half low 0.1017, medium 0.0985, high 0.0910, ultra 0.0902; full low 0.0810, medium
 /// 0.0677, high 0.0605, ultra 0.0568. Full resolution at the low preset beats half at the
 /// ultra one, so resolution comes before samples; quarter resolution (not in those tables)
-/// goes below half. The levels' costs are measured on the first view, not assumed.
+/// goes below half. The levels' costs are measured on the first view, not assumed. The
+/// order is GTAO's; other estimators take the same order by principle (resolution first,
+/// then samples), not by measurement.
 pub const LADDER: [(Resolution, Preset); 11] = [
     (Resolution::Quarter, Preset::Low),
     (Resolution::Quarter, Preset::Medium),
@@ -114,8 +116,11 @@ pub fn orbit(
     for k in 1..nominal.len() {
         nominal[k] = nominal[k].max(nominal[k - 1] * 1.001);
     }
-    let mut control =
-        BudgetController::new(budget_ms, &nominal).context("the budget must be > 0 ms")?;
+    let mut control = BudgetController::new(budget_ms, &nominal).with_context(|| {
+        format!(
+            "no controller for a {budget_ms} ms budget over the measured level costs {nominal:?}"
+        )
+    })?;
     let n = a.frames;
     let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
     let mut previous: Option<(Camera, usize)> = None;

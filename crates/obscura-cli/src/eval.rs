@@ -415,6 +415,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     if a.rays == 0 || a.rays > 65536 {
         bail!("--rays must be in 1..=65536 (got {})", a.rays);
     }
+    if a.truth == TruthArg::Msaa4 && !a.rays.is_multiple_of(4) {
+        bail!(
+            "--truth msaa4 traces a quarter of the rays through each of 4 sample positions: \
+             --rays must be a multiple of 4 (got {})",
+            a.rays
+        );
+    }
     if a.runs == 0 || a.runs > 1000 {
         bail!("--runs must be in 1..=1000");
     }

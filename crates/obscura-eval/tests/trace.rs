@@ -116,7 +116,8 @@ fn bottom_of_a_bowl_and_inside_a_cavity() {
 /// whose edge crosses a pixel at 0.2 of its width covers only the sample at x = 0.125.
 /// The centre reference sees sky there; the MSAA one sees the plane (depth 5, its mean
 /// over the one covered sample) and averages the sky samples in as unoccluded. Pixels
-/// wholly on either side agree.
+/// wholly on either side agree. A corner then checks that each position's x goes with its
+/// own y (a transposed table fails it).
 #[test]
 fn msaa_references_sample_the_four_standard_positions() {
     use obscura_scene::{Camera, CameraProjection};
@@ -169,4 +170,26 @@ fn msaa_references_sample_the_four_standard_positions() {
             assert_eq!((centre.depth[at(x)], msaa.depth[at(x)]), (0.0, 0.0));
         }
     }
+    // A corner covering x < 0.45 and y < 0.25 of pixel (3, 1): only the sample at
+    // (0.375, 0.125) lies in it (with x and y of the positions swapped, none would).
+    let view_y = |py: f32| (1.0 - py / h as f32 * 2.0) * scale[1];
+    let (ex, ey) = (view_x(3.45), view_y(1.25));
+    let corner = quad(
+        Vec3::new(-100.0, ey, -5.0),
+        Vec3::new(ex, ey, -5.0),
+        Vec3::new(ex, 100.0, -5.0),
+        Vec3::new(-100.0, 100.0, -5.0),
+    );
+    let bvh = Bvh::new(corner.to_vec());
+    let s = |sampling| TraceSettings {
+        sampling,
+        rays: 16,
+        ..settings(1.0)
+    };
+    let trace = |sampling| obscura_eval::trace_view(&bvh, &cam, w, h, &s(sampling), &|_, _| {});
+    let (centre, msaa) = (trace(PixelSampling::Centre), trace(PixelSampling::Msaa4));
+    let at = w as usize + 3;
+    assert_eq!(centre.depth[at], 0.0);
+    assert!((msaa.depth[at] - 5.0).abs() < 1e-4, "{:?}", msaa.depth);
+    assert_eq!(msaa.depth[at + 1], 0.0);
 }

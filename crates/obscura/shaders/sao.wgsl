@@ -31,7 +31,7 @@ const LOG2_MIP_STRIDE: i32 = 3;
 // resolution the pyramid still comes from the full-resolution buffer).
 fn sao_depth(q: vec2<i32>, r_px: f32) -> f32 {
     // floor(log2(r)) as the paper's findMSB of the integer radius: exact, no log2 rounding.
-    let most = i32(textureNumLevels(pyramid)) - i32(frame.pyramid_offset);
+    let most = max(i32(textureNumLevels(pyramid)) - i32(frame.pyramid_offset), 0);
     let level = clamp(i32(firstLeadingBit(u32(max(r_px, 1.0)))) - LOG2_MIP_STRIDE, 0, most);
     if level == 0 {
         return sample_depth(q);

@@ -34,6 +34,15 @@ fn occupied_length(sd: f32, dc: f32, h: f32) -> f32 {
     return clamp(min(dc + h, back) - max(sd, dc - h), 0.0, 2.0 * h);
 }
 
+// The occupied length of the chord by the one depth at pixel `q` (sky: none).
+fn line_occupied(q: vec2<i32>, dc: f32, h: f32) -> f32 {
+    let sd = sample_depth(q);
+    if sd <= 0.0 {
+        return 0.0;
+    }
+    return occupied_length(sd, dc, h);
+}
+
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let d = centre.x;
     if d <= 0.0 {

@@ -5,9 +5,10 @@
 // moments (shaders/moments.wgsl) of the largest texels that fit in that area, so the disk
 // is covered instead of point-sampled. The depths in the texel's footprint are taken as
 // uniform over mean ± sqrt(3) σ, the uniform distribution with that mean and variance (our
-// choice: bounded, so a chord's expectation stays within the footprint's depths, and in
-// closed form); the chord's expected occupied length over it is integrated exactly, times
-// the footprint's non-sky fraction. Where a sample's share is under 4 px² (level 0) it is
+// choice: no tails, unlike a normal distribution's, and in closed form; on a bimodal
+// footprint, a silhouette, it spreads depth between the two surfaces and past them); the
+// chord's expected occupied length over it is integrated exactly, times the footprint's
+// non-sky fraction. Where a sample's share is under 4 px² (level 0) it is
 // VO's line integral exactly. CPU mirror: src/reference.rs, `sphere_pixel` with `area`.
 
 @group(0) @binding(3) var moments: texture_2d<f32>;
@@ -19,8 +20,9 @@
 // grid, and is the texture's mip L - 1.
 fn sample_level(rs_px: f32) -> i32 {
     let share = 0.5 * TAU * rs_px * rs_px / f32(DIRECTIONS * STEPS);
-    let most = i32(textureNumLevels(moments)) - i32(frame.pyramid_offset);
-    return clamp(i32(floor(0.5 * log2(max(share, 1.0)))), 0, most);
+    let most = max(i32(textureNumLevels(moments)) - i32(frame.pyramid_offset), 0);
+    // floor(log2(share) / 2), exactly (as SAO's level): the leading bit of floor(share).
+    return min(i32(firstLeadingBit(u32(max(share, 1.0)))) >> 1u, most);
 }
 
 // E[max(z - c, 0)] for z uniform on [lo, hi] (a point where lo = hi).
@@ -47,11 +49,7 @@ fn chord_point(q: vec2<i32>, level: i32) -> vec2<f32> {
 
 fn chord_occupied(q: vec2<i32>, level: i32, dc: f32, h: f32) -> f32 {
     if level == 0 {
-        let sd = sample_depth(q);
-        if sd <= 0.0 {
-            return 0.0;
-        }
-        return occupied_length(sd, dc, h);
+        return line_occupied(q, dc, h);
     }
     let mip = u32(level) + frame.pyramid_offset - 1u;
     // Mip sizes from the base size (wgpu's rule; see sao.wgsl).

@@ -11,9 +11,5 @@ fn chord_point(q: vec2<i32>, level: i32) -> vec2<f32> {
 }
 
 fn chord_occupied(q: vec2<i32>, level: i32, dc: f32, h: f32) -> f32 {
-    let sd = sample_depth(q);
-    if sd <= 0.0 {
-        return 0.0;
-    }
-    return occupied_length(sd, dc, h);
+    return line_occupied(q, dc, h);
 }

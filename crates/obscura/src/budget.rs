@@ -14,7 +14,10 @@
 //!   against the scene as it stood (the caller's nominal ratios until then), and `scene`
 //!   is the current scene's complexity, an exponential average of `time / cost[level]`
 //!   over the frames after those (weight [`SCENE_SMOOTHING`]), so a change of view moves
-//!   every level's prediction at once and never a level's cost.
+//!   every level's prediction at once. A view that changes during a level's settling
+//!   frames is booked to that level's cost until its next visit (the two cannot be told
+//!   apart from one level's times); the level is then tried again only once the scene has
+//!   become cheaper by as much.
 //! - Down: a frame whose smoothed time is over `budget × (1 + DOWN_TOLERANCE)` drops to the
 //!   dearest level predicted within the budget (at least one level down).
 //! - Up: to the dearest level predicted within `budget × (1 − UP_MARGIN)`, once the
@@ -85,7 +88,10 @@ impl BudgetController {
 
     /// The predicted time of `level` for the current scene, once a frame has been measured.
     pub fn predicted_ms(&self, level: usize) -> Option<f64> {
-        (level < self.cost.len()).then(|| Some(self.scene? * self.cost_of(level)))?
+        if level >= self.cost.len() {
+            return None;
+        }
+        Some(self.scene? * self.cost_of(level))
     }
 
     /// A level's relative cost: learned, or else the nominal ratio to the nearest measured
@@ -102,9 +108,10 @@ impl BudgetController {
     }
 
     /// Reports the measured time of the frame just run at [`Self::level`] and returns the
-    /// level for the next frame. Non-finite or negative times are ignored.
+    /// level for the next frame. Times that are not finite and positive (a failed or
+    /// unsupported timestamp read as 0) are ignored.
     pub fn update(&mut self, measured_ms: f64) -> usize {
-        if !(measured_ms.is_finite() && measured_ms >= 0.0) {
+        if !(measured_ms.is_finite() && measured_ms > 0.0) {
             return self.level;
         }
         let k = self.level;
@@ -272,9 +279,14 @@ mod tests {
         let mut c = BudgetController::new(10.0, &NOMINAL).unwrap();
         assert_eq!(c.update(f64::NAN), 0);
         assert_eq!(c.update(-1.0), 0);
+        // A zero time (an unsupported timestamp) would make the scene 0 and every later
+        // prediction NaN: it is ignored, and the controller still climbs afterwards.
+        assert_eq!(c.update(0.0), 0);
         assert!(c.predicted_ms(0).is_none());
         c.update(3.0);
         assert_eq!(c.predicted_ms(0), Some(3.0));
         assert!(c.predicted_ms(99).is_none());
+        let frames = run(&mut c, &TRUE, 30, |_| 1.0, 0.0);
+        assert!(frames[10..].iter().all(|f| f.0 == 2), "{frames:?}");
     }
 }

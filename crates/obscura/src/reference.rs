@@ -636,7 +636,7 @@ pub fn sphere_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4], offset: f32, ar
     let level = if area {
         let share = std::f32::consts::PI * rs_px * rs_px / (px.directions * px.steps) as f32;
         let most = px.moments.len() as i32 - f.pyramid_offset as i32;
-        ((0.5 * share.max(1.0).log2()).floor() as i32).clamp(0, most.max(0))
+        (((share.max(1.0) as u32).ilog2() / 2) as i32).min(most.max(0))
     } else {
         0
     };
@@ -756,6 +756,19 @@ pub fn sao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
 /// deinterleaved mode takes the pattern of the pixel's layer and samples on the N-pixel
 /// lattice. The GPU's deinterleaved layout must give exactly this.
 pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<f32> {
+    ao_over(f, options, prepared, f.size, prepared)
+}
+
+/// [`ao`] on a working grid below full resolution (`f` the working frame, `prepared` its
+/// level), with the depth pyramid and moments built, as on the GPU, from the
+/// full-resolution buffer `full` (`full_size` pixels; only `.x`, linear depth, is read).
+pub fn ao_over(
+    f: &FrameUniforms,
+    options: &crate::AoOptions,
+    prepared: &[Vec4],
+    full_size: [u32; 2],
+    full: &[Vec4],
+) -> Vec<f32> {
     let n = options.mode.split();
     let (dim, lattice) = if n == 1 {
         (crate::jitter::PATTERN_DIM, 1)
@@ -763,12 +776,12 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
         (n, n)
     };
     let levels = if options.estimator.uses_pyramid() {
-        pyramid(f.size, prepared)
+        pyramid(full_size, full)
     } else {
         Vec::new()
     };
     let moment_levels = if options.estimator.uses_moments() {
-        moments(f.size, prepared)
+        moments(full_size, full)
     } else {
         Vec::new()
     };

@@ -412,7 +412,8 @@ fn every_mode_matches_cpu_reference_on_odd_sizes() {
 /// columns); and VO's area integral really reads it: the GPU's matches the CPU's area
 /// integral, and differs on many pixels from the line integral, which is what it would be
 /// if it never left level 0. Tolerance: fraction within 1e-6, mean within 1e-5 of it,
-/// variance within 1e-5 of the mean² (float rounding of a different summation order).
+/// variance within 1e-3 of itself plus 1e-9 of the mean² (float rounding: the GPU may fuse
+/// multiply-adds; E[z²] − E[z]² in f32 would miss by ~1e-7 of the mean²).
 #[test]
 fn depth_moments_match_cpu_and_vo_area_reads_them() {
     let _g = lock();
@@ -454,10 +455,11 @@ fn depth_moments_match_cpu_and_vo_area_reads_them() {
             );
             assert_eq!(r.moments.len(), cpu.len(), "{w}x{h} {options:?}: levels");
             for (level, (g, c)) in r.moments.iter().zip(&cpu).enumerate() {
+                assert_eq!(g.len(), c.texels.len(), "{w}x{h}: level {} size", level + 1);
                 for (i, (g, c)) in g.iter().zip(&c.texels).enumerate() {
                     let ok = (g[0] - c[0]).abs() <= 1e-6
                         && (g[1] - c[1]).abs() <= 1e-5 * c[1].max(1.0)
-                        && (g[2] - c[2]).abs() <= 1e-5 * (c[1] * c[1]).max(1.0);
+                        && (g[2] - c[2]).abs() <= 1e-3 * c[2] + 1e-9 * c[1] * c[1];
                     assert!(
                         ok,
                         "{w}x{h} {options:?}: level {} texel {i}: {g:?} vs {c:?}",
@@ -2415,9 +2417,9 @@ fn denoise_matches_cpu_reference_and_stops_at_edges() {
 }
 
 /// Below full resolution the AO pass runs on the downsampled level exactly as at full
-/// resolution on a smaller image: every estimator (SAO aside: it reads the full-resolution
-/// pyramid) in every layout matches the CPU reference run on the GPU's own level, with the
-/// working-resolution frame.
+/// resolution on a smaller image: every estimator in every layout matches the CPU reference
+/// run on the GPU's own level, with the working-resolution frame (SAO's pyramid and
+/// VO-area's moments built from full-resolution depth, as on the GPU).
 #[test]
 fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
     let _g = lock();
@@ -2429,12 +2431,7 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
     };
     for resolution in [Resolution::Half, Resolution::Quarter] {
         for mode in AoMode::ALL {
-            for estimator in [
-                Estimator::Hbao,
-                Estimator::Gtao,
-                Estimator::Vo,
-                Estimator::Vao,
-            ] {
+            for estimator in Estimator::ALL {
                 let options = AoOptions {
                     resolution,
                     mode,
@@ -2456,7 +2453,16 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
                 );
                 let level = r.levels.len();
                 let work = r.frame.at_factor(resolution.factor());
-                let cpu = reference::ao(&work, &options, &r.levels[level - 1]);
+                // SAO's pyramid and VO-area's moments come from full-resolution depth.
+                let full: Vec<Vec4> = if r.prepared.is_empty() {
+                    r.linear_depth
+                        .iter()
+                        .map(|&d| Vec4::new(d, 0.0, 0.0, 0.0))
+                        .collect()
+                } else {
+                    r.prepared.clone()
+                };
+                let cpu = reference::ao_over(&work, &options, &r.levels[level - 1], [W, H], &full);
                 let diffs: Vec<f32> = r
                     .work_ao
                     .iter()
