@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::output::save_ao;
-use crate::render::{NormalSource, RenderArgs};
+use crate::render::{orbit_turn, NormalSource, RenderArgs};
 
 /// The ladder, from the most error to the least: working resolution and preset. The order
 /// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE
@@ -125,12 +125,7 @@ pub fn orbit(
     let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
     let mut previous: Option<(Camera, usize)> = None;
     for k in 0..n {
-        let turn = if n > 1 {
-            degrees * k as f32 / (n - 1) as f32
-        } else {
-            0.0
-        };
-        let c = cam.orbit(turn);
+        let c = cam.orbit(orbit_turn(degrees, k, n));
         let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
         let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
         let level = control.level();

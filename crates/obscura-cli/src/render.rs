@@ -716,12 +716,7 @@ fn orbit(
     let mut times = Vec::with_capacity(n as usize);
     let mut previous: Option<Camera> = None;
     for k in 0..n {
-        let turn = if n > 1 {
-            degrees * k as f32 / (n - 1) as f32
-        } else {
-            0.0
-        };
-        let c = cam.orbit(turn);
+        let c = cam.orbit(orbit_turn(degrees, k, n));
         let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
         let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
         let p = AoParams {
@@ -746,6 +741,16 @@ fn orbit(
     );
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// The camera's turn in degrees at frame `k` of `n` of an orbit of `degrees`: evenly from 0
+/// at the first frame to `degrees` at the last.
+pub(crate) fn orbit_turn(degrees: f32, k: u32, n: u32) -> f32 {
+    if n > 1 {
+        degrees * k as f32 / (n - 1) as f32
+    } else {
+        0.0
+    }
 }
 
 /// One line of progress on stderr, redrawn in place: `[=====     ] 5/10 path`.

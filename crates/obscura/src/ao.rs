@@ -187,12 +187,13 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     };
     let mut steps = Vec::new();
     let classified = upsample && o.upsample == Upsampler::Classified;
+    // Where the first level of the depth pyramid and of the moments pyramid reads depth.
+    let (source, from) = if fused_prepare {
+        (PyramidSource::Layers, Res::PreparedLayers)
+    } else {
+        (PyramidSource::Full, full_depth)
+    };
     if o.estimator.uses_pyramid() || classified {
-        let (source, from) = if fused_prepare {
-            (PyramidSource::Layers, Res::PreparedLayers)
-        } else {
-            (PyramidSource::Full, full_depth)
-        };
         steps.push(step(
             Pass::Pyramid { source },
             vec![(1, from), (2, Res::PyramidMip(0))],
@@ -209,11 +210,6 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         steps.push(step(mips, vec![], FrameAt::Full, Grid::PyramidMips));
     }
     if o.estimator.uses_moments() {
-        let (source, from) = if fused_prepare {
-            (PyramidSource::Layers, Res::PreparedLayers)
-        } else {
-            (PyramidSource::Full, full_depth)
-        };
         steps.push(step(
             Pass::Moments { source },
             vec![(1, from), (2, Res::MomentsMip(0))],

@@ -343,6 +343,12 @@ impl Pass {
         const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
         const PREPARE: &str = include_str!("../shaders/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("../shaders/downsample_rule.wgsl");
+        // The depth source fragment of the pyramid and moments passes.
+        let pyramid_source = |source: PyramidSource| match source {
+            PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
+            PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
+            PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
+        };
         let prepared_source = |layers: bool| {
             if layers {
                 include_str!("../shaders/prepared_layers.wgsl")
@@ -417,20 +423,12 @@ impl Pass {
             ],
             Pass::Interleave => vec![STORE_AO_FULL, include_str!("../shaders/interleave.wgsl")],
             Pass::Pyramid { source } => vec![
-                match source {
-                    PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
-                    PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
-                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
-                },
+                pyramid_source(source),
                 include_str!("../shaders/pyramid.wgsl"),
             ],
             Pass::PyramidLevels => vec![include_str!("../shaders/pyramid_levels.wgsl")],
             Pass::Moments { source } => vec![
-                match source {
-                    PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
-                    PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
-                    PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
-                },
+                pyramid_source(source),
                 include_str!("../shaders/moments.wgsl"),
             ],
             Pass::Downsample { .. } => {
