@@ -15,6 +15,14 @@
 //           AO changes over the scale of the AO radius, so points farther apart than a
 //           fraction of it across the surface do not share AO;
 //   normal: max(n_tap . n, 0)^8 (halves at 25 degrees), as the bilateral upsampler.
+// The output is not the weighted mean but the value at the centre of the weighted
+// least-squares plane through the taps, ao ≈ a + g·(dx, dy) (local linear regression,
+// Cleveland 1979; the joint bilateral filter's bias at edges and its removal: Buades,
+// Coll & Morel 2006). Where the kernel is symmetric (flat interiors) the two agree. Where
+// a crease or an edge rejects one side, the mean of the remaining taps is biased by the
+// AO gradient, which is steepest exactly there (a concave crease darkens within a pixel
+// or two), and the fit removes that bias. A ridge of DENOISE_RIDGE px² on the slope
+// makes taps along one line give slope 0 across it, not 0/0.
 // Sky taps are skipped; sky pixels pass through. CPU mirror: src/reference.rs, `denoise`.
 
 override PERIOD: u32 = 2u;
@@ -40,8 +48,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         );
         let r = i32(PERIOD / 2u);
         let size = vec2<i32>(frame.size);
-        var sum = 0.0;
+        // Weighted sums of 1, v, d, v·d and d⊗d, d = (dx, dy) the tap's offset.
         var total = 0.0;
+        var sum = 0.0;
+        var sum_d = vec2<f32>(0.0);
+        var sum_vd = vec2<f32>(0.0);
+        var sum_dd = vec3<f32>(0.0);
         for (var dy = -r; dy <= r; dy++) {
             for (var dx = -r; dx <= r; dx++) {
                 let q = p + vec2<i32>(dx, dy);
@@ -59,11 +71,25 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 let c4 = c2 * c2;
                 let spatial = select(2.0, 1.0, abs(dx) == r) * select(2.0, 1.0, abs(dy) == r);
                 let w = spatial * exp(-z * z) * c4 * c4;
-                sum += w * textureLoad(ao_in, q, 0).x;
+                let v = textureLoad(ao_in, q, 0).x;
+                let d = vec2<f32>(f32(dx), f32(dy));
                 total += w;
+                sum += w * v;
+                sum_d += w * d;
+                sum_vd += w * v * d;
+                sum_dd += w * vec3<f32>(d.x * d.x, d.y * d.y, d.x * d.y);
             }
         }
-        ao = sum / total;
+        // Centred moments: mean offset m, covariance of offsets (xx, yy, xy), covariance of
+        // offsets with values c; slope g = cov⁻¹ c; the plane's value at the centre.
+        let mean = sum / total;
+        let m = sum_d / total;
+        let xx = sum_dd.x / total - m.x * m.x + DENOISE_RIDGE;
+        let yy = sum_dd.y / total - m.y * m.y + DENOISE_RIDGE;
+        let xy = sum_dd.z / total - m.x * m.y;
+        let c = sum_vd / total - m * mean;
+        let g = vec2<f32>(yy * c.x - xy * c.y, xx * c.y - xy * c.x) / (xx * yy - xy * xy);
+        ao = clamp(mean - dot(g, m), 0.0, 1.0);
     }
     textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
 }

@@ -1051,7 +1051,9 @@ pub fn upsample(
 /// `prepared` its prepared values per pixel, `period` the pattern period 2 or 4); mirrors
 /// shaders/denoise.wgsl.
 pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) -> Vec<f32> {
-    use crate::shader::{DENOISE_RADIUS_TOLERANCE, NOISE_TOLERANCE_SIGMAS, PLANE_TOLERANCE};
+    use crate::shader::{
+        DENOISE_RADIUS_TOLERANCE, DENOISE_RIDGE, NOISE_TOLERANCE_SIGMAS, PLANE_TOLERANCE,
+    };
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let r = (period / 2) as i32;
@@ -1068,7 +1070,10 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
             let tol = (PLANE_TOLERANCE * c.x)
                 .min(DENOISE_RADIUS_TOLERANCE * f.radius)
                 .max(NOISE_TOLERANCE_SIGMAS * f.depth_sigma(c.x));
-            let (mut sum, mut total) = (0.0, 0.0);
+            // Weighted sums of 1, v, d, v·d and d⊗d (xx, yy, xy), d the tap's offset.
+            let (mut total, mut sum) = (0.0f32, 0.0f32);
+            let (mut sum_d, mut sum_vd) = (glam::Vec2::ZERO, glam::Vec2::ZERO);
+            let mut sum_dd = Vec3::ZERO;
             for dy in -r..=r {
                 for dx in -r..=r {
                     let q = [x + dx, y + dy];
@@ -1085,11 +1090,23 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
                     let spatial = |d: i32| if d.abs() == r { 1.0 } else { 2.0 };
                     let wgt =
                         spatial(dx) * spatial(dy) * (-z * z).exp() * sn.dot(n).max(0.0).powi(8);
-                    sum += wgt * ao[at(q)];
+                    let (v, d) = (ao[at(q)], glam::Vec2::new(dx as f32, dy as f32));
                     total += wgt;
+                    sum += wgt * v;
+                    sum_d += wgt * d;
+                    sum_vd += wgt * v * d;
+                    sum_dd += wgt * Vec3::new(d.x * d.x, d.y * d.y, d.x * d.y);
                 }
             }
-            out.push(sum / total);
+            // The weighted least-squares plane's value at the centre.
+            let mean = sum / total;
+            let m = sum_d / total;
+            let xx = sum_dd.x / total - m.x * m.x + DENOISE_RIDGE;
+            let yy = sum_dd.y / total - m.y * m.y + DENOISE_RIDGE;
+            let xy = sum_dd.z / total - m.x * m.y;
+            let c = sum_vd / total - m * mean;
+            let g = glam::Vec2::new(yy * c.x - xy * c.y, xx * c.y - xy * c.x) / (xx * yy - xy * xy);
+            out.push((mean - g.dot(m)).clamp(0.0, 1.0));
         }
     }
     out
@@ -1275,9 +1292,76 @@ pub fn ao_downsample(tent: bool, size: [u32; 2], ao: &[f32]) -> ([u32; 2], Vec<f
 
 #[cfg(test)]
 mod tests {
-    use super::{expected_occupied, fast_acos, gtao_side, moments, occupied_length};
+    use super::{denoise, expected_occupied, fast_acos, gtao_side, moments, occupied_length};
     use glam::Vec4;
     use std::f64::consts::FRAC_PI_2;
+
+    /// The denoiser on a crease (analytic answers): a plane facing the camera meets a 45°
+    /// plane along column `edge`, so each side's taps across the crease are rejected. The
+    /// AO is a ramp in x plus a 2×2 dither of ±0.1. Interior pixels, whose kernel is
+    /// whole, get the ramp (the dither cancels over one period); pixels beside the crease
+    /// get the ramp with their own column's x-dither (the y-dither cancels), not the ramp
+    /// shifted by a third of a step as a one-sided mean would give. Tolerance 1e-4.
+    #[test]
+    fn denoiser_is_unbiased_beside_a_crease_and_cancels_the_dither() {
+        use crate::{AoOptions, AoParams, DepthConvention, Projection, Viewport};
+        let (w, h, edge) = (24u32, 12u32, 12i32);
+        let projection = Projection::Orthographic {
+            half_width: w as f32 / 2.0,
+            half_height: h as f32 / 2.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        let params = AoParams {
+            radius: 4.0,
+            ..Default::default()
+        };
+        let viewport = Viewport {
+            x: 0,
+            y: 0,
+            width: w,
+            height: h,
+        };
+        let f = crate::uniforms::FrameUniforms::new(
+            &projection,
+            DepthConvention::LinearView,
+            None,
+            viewport,
+            &AoOptions::default(),
+            &params,
+        )
+        .unwrap();
+        // One view unit per pixel: the tilted plane's depth grows by one per column.
+        let n_tilted = glam::Vec3::new(1.0, 0.0, 1.0).normalize();
+        let prepared: Vec<Vec4> = (0..h as i32)
+            .flat_map(|_| {
+                (0..w as i32).map(move |x| {
+                    if x < edge {
+                        Vec4::new(10.0, 0.0, 0.0, 1.0)
+                    } else {
+                        Vec4::new(10.0 + (x - edge) as f32, n_tilted.x, 0.0, n_tilted.z)
+                    }
+                })
+            })
+            .collect();
+        let ramp = |x: i32| 0.3 + 0.02 * x as f32;
+        let dither = |v: i32| if v % 2 == 0 { 0.1 } else { -0.1 };
+        let ao: Vec<f32> = (0..h as i32)
+            .flat_map(|y| (0..w as i32).map(move |x| ramp(x) + dither(x) + dither(y)))
+            .collect();
+        let out = denoise(&f, &prepared, &ao, 2);
+        for y in 1..h as i32 - 1 {
+            for x in 1..w as i32 - 1 {
+                let got = out[(y * w as i32 + x) as usize];
+                let beside = x == edge - 1 || x == edge;
+                let want = ramp(x) + if beside { dither(x) } else { 0.0 };
+                assert!(
+                    (got - want).abs() <= 1e-4,
+                    "pixel {x},{y}: {got} vs {want} (beside the crease: {beside})"
+                );
+            }
+        }
+    }
 
     /// The closed-form expectation of a chord's occupied length over depths uniform with a
     /// mean and variance against a midpoint-rule average over that interval (10⁵ points), on

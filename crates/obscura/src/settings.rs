@@ -283,12 +283,13 @@ pub enum Denoise {
     /// 1-2-2-2-1) give every sampling pattern the same total weight, so the dither pattern
     /// cancels on a flat surface. Each tap is weighted by its distance from the centre's
     /// tangent plane and the centre's from its own, and by the angle between normals, so
-    /// nothing crosses a depth edge or a crease. The default: it wins per millisecond (2×2
-    /// deinterleaved GTAO high at 640×400 on lavapipe, nine shared views: mean RMSE against
-    /// ray-traced AO 0.0658 → 0.0606, lower on eight views, +0.0005 on house5, for about
-    /// 10 ms; 8 steps instead of 4 without it reach 0.0634). With the randomized pass's 4×4
-    /// patterns (5×5 kernel) it helps less (0.0622 either way; worse on the voxel houses,
-    /// whose faces are a few pixels wide). docs/sample-reuse.md.
+    /// nothing crosses a depth edge or a crease. The output is the weighted least-squares
+    /// plane's value at the centre (local linear regression, Buades, Coll & Morel 2006), not
+    /// the weighted mean, so a kernel cut off on one side by a crease is not biased by the
+    /// AO's gradient there. The default: on the nine shared views (640×400, lavapipe, mean
+    /// RMSE against ray-traced AO) it lowers every GTAO preset in both layouts on every view
+    /// but one (2×2 high 0.0658 → 0.0605, randomized high 0.0622 → 0.0578; house5 at
+    /// randomized ultra +0.0004), for about 13 ms. docs/sample-reuse.md.
     #[default]
     Spatial,
     /// Seed 003's 2×2 box downsample of the AO (4 taps), then upsampling from that half

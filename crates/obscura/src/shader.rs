@@ -86,6 +86,11 @@ pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
 /// the denoiser) is at least this many σ of the depth noise ([`crate::DepthNoise`]), so
 /// noise does not read as an edge (common.wgsl, `plane_tolerance`).
 pub const NOISE_TOLERANCE_SIGMAS: f32 = 2.0;
+/// Ridge on the spatial denoiser's slope, in px² (shaders/denoise.wgsl): against the spread
+/// of any two tap columns (at least 2/9 px²) it shrinks a slope by under 0.05%, and it
+/// dominates f32 rounding of the spread (~1e-7), so taps that all lie on one line get
+/// slope 0 across it instead of 0/0.
+pub const DENOISE_RIDGE: f32 = 1e-4;
 /// Temporal reprojection keeps a history texel only if its surface normal is within about
 /// 26° of this pixel's (cosine at least this): across a convex edge the neighbouring face's
 /// texels lie within the tangent-plane tolerance of this face's plane, and on a face seen
@@ -581,6 +586,7 @@ pub fn prelude() -> String {
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
          const DENOISE_RADIUS_TOLERANCE: f32 = {DENOISE_RADIUS_TOLERANCE:?};\n\
          const NOISE_TOLERANCE_SIGMAS: f32 = {NOISE_TOLERANCE_SIGMAS:?};\n\
+         const DENOISE_RIDGE: f32 = {DENOISE_RIDGE:?};\n\
          const HISTORY_NORMAL_COS: f32 = {HISTORY_NORMAL_COS:?};\n\
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
