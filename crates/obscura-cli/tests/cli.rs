@@ -436,6 +436,39 @@ fn eval_writes_report_json_and_caches_the_reference() {
     assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 4, "{j}");
     // Every estimate has its sampling error against its screen-space reference.
     assert_eq!(j.matches("\"screen_rmse\": null").count(), 7, "{j}");
+    // Its sampling bias is its bias minus its screen-space reference's (same pixels), to
+    // the JSON's rounding, and the report lists every estimate's.
+    let v: serde_json::Value = serde_json::from_str(&j).unwrap();
+    let records = v["records"].as_array().unwrap();
+    let bias_of = |variant: &str| {
+        records
+            .iter()
+            .find(|r| r["variant"] == variant)
+            .and_then(|r| r["bias"].as_f64())
+            .unwrap()
+    };
+    let mut checked = 0;
+    for r in records.iter().filter(|r| r["screen_bias"].is_number()) {
+        let est = r["estimator"].as_str().unwrap();
+        let want = r["bias"].as_f64().unwrap() - bias_of(&format!("{est} screen-space reference"));
+        let got = r["screen_bias"].as_f64().unwrap();
+        assert!(
+            (got - want).abs() <= 2e-5,
+            "{}: {got} vs {want}",
+            r["variant"]
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 18, "{j}");
+    let sampling = &md[md.find("### Sampling bias").expect("sampling bias")..];
+    assert_eq!(
+        sampling
+            .lines()
+            .filter(|l| l.ends_with("| cornell |"))
+            .count(),
+        18,
+        "{sampling}"
+    );
     // The second run finds the reference in the cache.
     let again = obscura(&args);
     assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));
