@@ -17,8 +17,8 @@ use crate::render::{orbit_turn, NormalSource, RenderArgs};
 /// The ladder, from the most error to the least: working resolution and preset. The order
 /// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE
 /// against ray-traced AO over the shared views; docs/frontier.md, docs/sample-reuse.md):
-/// half low 0.1017, medium 0.0985, high 0.0910, ultra 0.0902; full low 0.0810, medium
-/// 0.0677, high 0.0605, ultra 0.0568. Full resolution at the low preset beats half at the
+/// half low 0.1033, medium 0.1006, high 0.0915, ultra 0.0907; full low 0.0831, medium
+/// 0.0704, high 0.0605, ultra 0.0565. Full resolution at the low preset beats half at the
 /// ultra one, so resolution comes before samples; quarter resolution (not in those tables)
 /// goes below half. The levels' costs are measured on the first view, not assumed. The
 /// order is GTAO's; other estimators take the same order by principle (resolution first,

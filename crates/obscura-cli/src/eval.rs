@@ -845,11 +845,16 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             ));
         }
         let r = &reference.ao;
-        // The full-resolution result of the same estimator and mode, if evaluated.
+        // The full-resolution result of the same estimator, mode and samples, if evaluated.
         let full_of = |o: &AoOptions| {
             results.iter().find_map(|r| {
-                r.5.filter(|f| f.direct() && f.estimator == o.estimator && f.mode == o.mode)
-                    .map(|_| &r.3)
+                r.5.filter(|f| {
+                    f.direct()
+                        && f.estimator == o.estimator
+                        && f.mode == o.mode
+                        && (f.directions, f.steps) == (o.directions, o.steps)
+                })
+                .map(|_| &r.3)
             })
         };
         for (name, estimator, mode, img, ms, options) in &results {
@@ -1091,22 +1096,35 @@ fn mixed_summary(rows: &[Row]) -> String {
         let mine: Vec<&Row> = rows.iter().filter(|r| r.variant == name).collect();
         let n = mine.len() as f32;
         let mean = |f: &dyn Fn(&Row) -> f32| mine.iter().map(|r| f(r)).sum::<f32>() / n;
-        // The same estimator and mode at full resolution on the same view.
+        // The same estimator, mode and samples at full resolution without denoising on the
+        // same view: this variant itself if it is one, else the timed variant whose name,
+        // plus a space, begins this one's (the longest, so "gtao randomized high" and not
+        // "gtao randomized" for a preset).
         let full_of = |r: &Row| {
-            rows.iter().find(|f| {
-                f.view == r.view
-                    && f.estimator == r.estimator
-                    && f.mode == r.mode
-                    && f.ms.is_some()
-                    && f.full_rmse.is_none()
-                    && f.variant.split(' ').count() == 2
-            })
+            rows.iter()
+                .filter(|f| {
+                    f.view == r.view
+                        && f.estimator == r.estimator
+                        && f.mode == r.mode
+                        && f.ms.is_some()
+                        && f.full_rmse.is_none()
+                        && (r.variant == f.variant
+                            || r.variant.starts_with(&format!("{} ", f.variant)))
+                })
+                .max_by_key(|f| f.variant.len())
         };
         let speedups: Vec<f64> = mine
             .iter()
             .filter_map(|r| Some(full_of(r)?.ms? / r.ms?))
             .collect();
-        let speedup = speedups.iter().sum::<f64>() / speedups.len().max(1) as f64;
+        let speedup = if speedups.is_empty() {
+            "–".to_string()
+        } else {
+            format!(
+                "{:.2}×",
+                speedups.iter().sum::<f64>() / speedups.len() as f64
+            )
+        };
         let full_band: Vec<f32> = mine
             .iter()
             .filter_map(|r| full_of(r).map(|f| f.band_rmse))
@@ -1122,7 +1140,7 @@ fn mixed_summary(rows: &[Row]) -> String {
         let full = mine.iter().all(|r| r.full_rmse.is_some());
         let _ = writeln!(
             s,
-            "| {name} | {:.4} | {:.4} | {band_ratio} | {} | {} | {speedup:.2}× |",
+            "| {name} | {:.4} | {:.4} | {band_ratio} | {} | {} | {speedup} |",
             mean(&|r| r.rmse),
             mean(&|r| r.band_rmse),
             if full {
@@ -1530,7 +1548,63 @@ fn scatter(rows: &[Row], variants: &[(String, AoOptions)]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{pareto, parse_split};
+    use super::{mixed_summary, pareto, parse_split, Row};
+
+    /// A row of one view with only what the mixed summary reads.
+    fn row(variant: &str, ms: f64, full_rmse: Option<(f32, f32)>) -> Row {
+        let words: Vec<&str> = variant.split(' ').collect();
+        Row {
+            view: "v".into(),
+            variant: variant.into(),
+            estimator: words[0].into(),
+            mode: words[1].into(),
+            rmse: 0.05,
+            bias: 0.0,
+            ssim: 1.0,
+            band_rmse: 0.1,
+            screen_rmse: None,
+            screen_bias: None,
+            full_rmse,
+            ms: Some(ms),
+            temporal: None,
+        }
+    }
+
+    /// With several presets, a denoised or low-resolution variant's speed-up is over the
+    /// full-resolution variant of its own preset ("gtao randomized high"), not of another
+    /// one nor of none; a variant that is its own full-resolution one reads 1.00×.
+    #[test]
+    fn the_mixed_summary_compares_each_preset_with_its_own_full_resolution() {
+        let rows = [
+            row("gtao randomized low", 10.0, None),
+            row("gtao randomized high", 20.0, None),
+            row(
+                "gtao randomized high full spatial",
+                40.0,
+                Some((0.01, 0.01)),
+            ),
+            row(
+                "gtao randomized low half bilateral",
+                5.0,
+                Some((0.02, 0.02)),
+            ),
+        ];
+        let s = mixed_summary(&rows);
+        let speedup = |name: &str| {
+            let line = s
+                .lines()
+                .find(|l| l.starts_with(&format!("| {name} |")))
+                .unwrap_or_else(|| panic!("{name} missing: {s}"));
+            line.rsplit('|').nth(1).unwrap().trim().to_string()
+        };
+        assert_eq!(speedup("gtao randomized high full spatial"), "0.50×", "{s}");
+        assert_eq!(
+            speedup("gtao randomized low half bilateral"),
+            "2.00×",
+            "{s}"
+        );
+        assert_eq!(speedup("gtao randomized high"), "1.00×", "{s}");
+    }
 
     #[test]
     fn the_frontier_keeps_exactly_the_undominated_points() {

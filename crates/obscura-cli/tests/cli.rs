@@ -440,17 +440,18 @@ fn eval_writes_report_json_and_caches_the_reference() {
     // the JSON's rounding, and the report lists every estimate's.
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
     let records = v["records"].as_array().unwrap();
-    let bias_of = |variant: &str| {
+    let bias_of = |view: &serde_json::Value, variant: &str| {
         records
             .iter()
-            .find(|r| r["variant"] == variant)
+            .find(|r| &r["view"] == view && r["variant"] == variant)
             .and_then(|r| r["bias"].as_f64())
             .unwrap()
     };
     let mut checked = 0;
     for r in records.iter().filter(|r| r["screen_bias"].is_number()) {
         let est = r["estimator"].as_str().unwrap();
-        let want = r["bias"].as_f64().unwrap() - bias_of(&format!("{est} screen-space reference"));
+        let want = r["bias"].as_f64().unwrap()
+            - bias_of(&r["view"], &format!("{est} screen-space reference"));
         let got = r["screen_bias"].as_f64().unwrap();
         assert!(
             (got - want).abs() <= 2e-5,

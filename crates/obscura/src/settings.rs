@@ -289,7 +289,7 @@ pub enum Denoise {
     /// AO's gradient there. The default: on the nine shared views (640×400, lavapipe, mean
     /// RMSE against ray-traced AO) it lowers every GTAO preset in both layouts on every view
     /// but one (2×2 high 0.0658 → 0.0605, randomized high 0.0622 → 0.0578; house5 at
-    /// randomized ultra +0.0004), for about 13 ms. docs/sample-reuse.md.
+    /// randomized ultra +0.0005), for about 13 ms. docs/sample-reuse.md.
     #[default]
     Spatial,
     /// Seed 003's 2×2 box downsample of the AO (4 taps), then upsampling from that half

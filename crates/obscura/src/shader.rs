@@ -86,10 +86,11 @@ pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
 /// the denoiser) is at least this many σ of the depth noise ([`crate::DepthNoise`]), so
 /// noise does not read as an edge (common.wgsl, `plane_tolerance`).
 pub const NOISE_TOLERANCE_SIGMAS: f32 = 2.0;
-/// Ridge on the spatial denoiser's slope, in px² (shaders/denoise.wgsl): against the spread
-/// of any two tap columns (at least 2/9 px²) it shrinks a slope by under 0.05%, and it
-/// dominates f32 rounding of the spread (~1e-7), so taps that all lie on one line get
-/// slope 0 across it instead of 0/0.
+/// Ridge on the spatial denoiser's slope, in px² (shaders/denoise.wgsl). Against the spread
+/// of two columns of full-weight taps (2/9 px² or more) it shrinks a slope by under 0.05%;
+/// where the spread is about the ridge or less (taps across it nearly or wholly rejected)
+/// the fit falls back towards the weighted mean, and taps that all lie on one line get
+/// slope 0 across it instead of 0/0. It dominates f32 rounding of the spread (~1e-7).
 pub const DENOISE_RIDGE: f32 = 1e-4;
 /// Temporal reprojection keeps a history texel only if its surface normal is within about
 /// 26° of this pixel's (cosine at least this): across a convex edge the neighbouring face's
