@@ -23,6 +23,9 @@
 // AO gradient, which is steepest exactly there (a concave crease darkens within a pixel
 // or two), and the fit removes that bias. A ridge of DENOISE_RIDGE px² on the slope
 // makes taps along one line give slope 0 across it, not 0/0.
+// At the image border the taps are mirrored, not dropped: a one-sided kernel there would
+// extrapolate the slope across the border from noise alone (the edge pixel has no taps
+// beyond it, unlike a crease, where the other side exists but is another surface).
 // Sky taps are skipped; sky pixels pass through. CPU mirror: src/reference.rs, `denoise`.
 
 override PERIOD: u32 = 2u;
@@ -56,10 +59,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var sum_dd = vec3<f32>(0.0);
         for (var dy = -r; dy <= r; dy++) {
             for (var dx = -r; dx <= r; dx++) {
-                let q = p + vec2<i32>(dx, dy);
-                if any(q < vec2<i32>(0)) || any(q >= size) {
-                    continue;
-                }
+                // Taps past the image border are mirrored back into it (whole-sample
+                // symmetric extension), so the kernel stays symmetric across the border and
+                // the fit does not extrapolate a one-sided slope onto the edge pixel.
+                var q = p + vec2<i32>(dx, dy);
+                q = select(q, -q, q < vec2<i32>(0));
+                q = clamp(select(q, 2 * (size - 1) - q, q >= size), vec2<i32>(0), size - 1);
                 let s = prepared_at(q);
                 if s.x <= 0.0 {
                     continue;

@@ -1076,10 +1076,12 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
             let mut sum_dd = Vec3::ZERO;
             for dy in -r..=r {
                 for dx in -r..=r {
-                    let q = [x + dx, y + dy];
-                    if q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h {
-                        continue;
-                    }
+                    // Mirrored at the image border, as the shader.
+                    let mirror = |c: i32, n: i32| {
+                        let c = c.abs();
+                        (if c >= n { 2 * (n - 1) - c } else { c }).clamp(0, n - 1)
+                    };
+                    let q = [mirror(x + dx, w), mirror(y + dy, h)];
                     let s = prepared[at(q)];
                     if s.x <= 0.0 {
                         continue;
@@ -1411,6 +1413,25 @@ mod tests {
             ramp,
             ramp,
         );
+    }
+
+    /// At the image border the taps are mirrored: on a flat surface the 2×2 dither (±0.1
+    /// per axis) cancels at every pixel, edges and corners included (analytic answer 0.5,
+    /// tolerance 1e-4). Dropping the taps past the border instead fits a line through the
+    /// two remaining columns, which returns the edge pixel's own dither (off by 0.1).
+    #[test]
+    fn denoiser_cancels_the_dither_at_the_image_border() {
+        for (w, h) in [(10u32, 6u32), (9, 7)] {
+            let f = ortho_frame(w, h);
+            let dither = |v: u32| if v.is_multiple_of(2) { 0.1 } else { -0.1 };
+            let pixels = || (0..h).flat_map(move |y| (0..w).map(move |x| (x, y)));
+            let prepared = vec![Vec4::new(10.0, 0.0, 0.0, 1.0); (w * h) as usize];
+            let ao: Vec<f32> = pixels().map(|(x, y)| 0.5 + dither(x) + dither(y)).collect();
+            let out = denoise(&f, &prepared, &ao, 2);
+            for ((x, y), got) in pixels().zip(out) {
+                assert!((got - 0.5).abs() <= 1e-4, "{w}×{h}, pixel {x},{y}: {got}");
+            }
+        }
     }
 
     /// The closed-form expectation of a chord's occupied length over depths uniform with a

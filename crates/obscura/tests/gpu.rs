@@ -817,7 +817,8 @@ fn planes_facing_or_tilted_are_unoccluded() {
                 Estimator::Sao => (0.95, 0.999),
                 // VO's area integral takes a texel's depths as uniform; over a square texel
                 // of a tilted plane they are trapezoidal, so a chord's expectation is
-                // slightly off (min 0.85, mean 0.992 measured on the 2×2 lattice).
+                // slightly off (min 0.88, mean 0.992 measured on the 2×2 lattice, with the
+                // default denoiser; 0.77 when its fit was one-sided at the image border).
                 Estimator::VoArea => (0.8, 0.99),
                 _ => (0.999, 0.999),
             };
