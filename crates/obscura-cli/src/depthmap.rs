@@ -392,6 +392,23 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     let cropped = framed.crop(&out)?;
     crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
+    if let Some(path) = &a.bent_normals_out {
+        let (bent, w, h) = crate::render::read_bent_normals(&ctx, &ao)?;
+        // Cropped like the AO where they share its size; below full resolution as they are
+        // (the padding then stays in, at the working resolution).
+        let (bent, w, h) = if (w, h) == (pw, ph) {
+            let channel = |k: usize| -> Result<Vec<f32>> {
+                Ok(framed.crop(&bent.iter().map(|b| b[k]).collect::<Vec<_>>())?)
+            };
+            let (x, y, z) = (channel(0)?, channel(1)?, channel(2)?);
+            let v = (0..x.len()).map(|i| [x[i], y[i], z[i]]).collect();
+            (v, map.width, map.height)
+        } else {
+            (bent, w, h)
+        };
+        crate::output::save_vectors(path, &bent, w, h)?;
+        eprintln!("wrote {} ({w}x{h})", path.display());
+    }
     eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
     Ok(())
 }

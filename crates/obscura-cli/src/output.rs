@@ -32,13 +32,24 @@ fn check_folder(path: &Path) -> Result<()> {
 /// Checks up front that `path` can take an AO image: `.png` (8- or 16-bit grey), `.npy`
 /// (float32) or `.exr` (float32), in an existing folder.
 pub fn check_ao_path(path: &Path) -> Result<()> {
+    check_image_path(path, "(8- or 16-bit grey, --bits)")
+}
+
+/// Checks up front that `path` can take vectors ([`save_vectors`]): `.png` (8-bit RGB),
+/// `.npy` or `.exr` (float32), in an existing folder.
+pub fn check_vectors_path(path: &Path) -> Result<()> {
+    check_image_path(path, "(8-bit RGB of xyz · 0.5 + 0.5)")
+}
+
+/// `.png` (`png_kind`), `.npy` or `.exr`, in an existing folder.
+fn check_image_path(path: &Path, png_kind: &str) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if !["png", "npy", "exr"]
         .iter()
         .any(|e| ext.eq_ignore_ascii_case(e))
     {
         bail!(
-            "output `{}` must end in .png (8- or 16-bit grey, --bits), .npy or .exr (float32)",
+            "output `{}` must end in .png {png_kind}, .npy or .exr (float32)",
             path.display()
         );
     }
@@ -58,19 +69,8 @@ pub fn save_ao(path: &Path, ao: &[f32], width: u32, height: u32, bits: u8) -> Re
     match ext.as_str() {
         "npy" => write_bytes(path, &npy_f32(ao, width, height)),
         "exr" => {
-            let rgb: Vec<u8> = ao
-                .iter()
-                .flat_map(|&v| [v; 3])
-                .flat_map(f32::to_ne_bytes)
-                .collect();
-            save_image(
-                path,
-                &rgb,
-                width,
-                height,
-                image::ExtendedColorType::Rgb32F,
-                image::ImageFormat::OpenExr,
-            )
+            let rgb: Vec<f32> = ao.iter().flat_map(|&v| [v; 3]).collect();
+            save_exr_rgb(path, &rgb, width, height)
         }
         _ if bits == 16 => {
             let px: Vec<u8> = ao
@@ -89,11 +89,65 @@ pub fn save_ao(path: &Path, ao: &[f32], width: u32, height: u32, bits: u8) -> Re
     }
 }
 
+/// Writes unit vectors (`width` × `height`, row-major; zero where there is none, as on sky)
+/// to `path` atomically, by extension: `.npy` as float32 of shape (height, width, 3), `.exr`
+/// as float32 RGB = xyz, anything else as an 8-bit RGB PNG of xyz · 0.5 + 0.5 (the usual
+/// normal-map encoding; black where the vector is zero).
+pub fn save_vectors(path: &Path, v: &[[f32; 3]], width: u32, height: u32) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let flat: Vec<f32> = v.iter().flatten().copied().collect();
+    match ext.as_str() {
+        "npy" => write_bytes(path, &npy(&flat, &[height, width, 3])),
+        "exr" => save_exr_rgb(path, &flat, width, height),
+        _ => {
+            let rgb: Vec<u8> = v
+                .iter()
+                .flat_map(|n| {
+                    let none = n.iter().all(|c| *c == 0.0);
+                    n.map(|c| {
+                        if none {
+                            0
+                        } else {
+                            ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8
+                        }
+                    })
+                })
+                .collect();
+            save_png(path, &rgb, width, height, image::ExtendedColorType::Rgb8)
+        }
+    }
+}
+
+/// Float32 RGB (`rgb`: three values per pixel, row-major) as EXR into `path` atomically.
+fn save_exr_rgb(path: &Path, rgb: &[f32], width: u32, height: u32) -> Result<()> {
+    let bytes: Vec<u8> = rgb.iter().flat_map(|c| c.to_ne_bytes()).collect();
+    save_image(
+        path,
+        &bytes,
+        width,
+        height,
+        image::ExtendedColorType::Rgb32F,
+        image::ImageFormat::OpenExr,
+    )
+}
+
 /// A version-1 `.npy` file holding `values` as a little-endian float32 array of shape
 /// (height, width) in C order (the NumPy format specification, NEP 1).
 pub fn npy_f32(values: &[f32], width: u32, height: u32) -> Vec<u8> {
-    let mut header =
-        format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({height}, {width}), }}");
+    npy(values, &[height, width])
+}
+
+/// A version-1 `.npy` file of little-endian float32 `values` of `shape`, C order.
+fn npy(values: &[f32], shape: &[u32]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(u32::to_string).collect();
+    let mut header = format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}), }}",
+        dims.join(", ")
+    );
     // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');

@@ -1,6 +1,8 @@
 //! `obscura render`: scene → G-buffer → AO → PNG.
 
-use crate::output::{check_ao_path, check_png_path, save_ao, save_png};
+use crate::output::{
+    check_ao_path, check_png_path, check_vectors_path, save_ao, save_png, save_vectors,
+};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -334,6 +336,11 @@ pub struct RenderArgs {
     /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
+    /// Also write GTAO's bent normals (view space, unit, the cosine-weighted mean unoccluded
+    /// direction; at the AO's working resolution): .png (8-bit RGB of xyz * 0.5 + 0.5, black
+    /// on sky), .npy (float32, height × width × 3) or .exr (float32 RGB = xyz).
+    #[arg(long, value_name = "FILE")]
+    pub bent_normals_out: Option<PathBuf>,
     /// Timed AO runs after one warm-up run; the median is reported (single frames).
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
@@ -421,6 +428,17 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
     for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
         check_png_path(p)?;
     }
+    if let Some(p) = &a.bent_normals_out {
+        if !Estimator::from(a.quality.estimator).has_bent_normals() {
+            bail!(
+                "--bent-normals-out needs --estimator gtao (bent normals come from its horizons)"
+            );
+        }
+        if a.orbit.is_some() {
+            bail!("--bent-normals-out writes one frame; it does not go with --orbit");
+        }
+        check_vectors_path(p)?;
+    }
     options(a).validate()?;
     params(a, 1.0).validate()?;
     if let Some(r) = a.radius {
@@ -440,6 +458,7 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
         } else {
             0
         },
+        bent_normals: a.bent_normals_out.is_some(),
         ..a.quality.samples.options(a.quality.estimator.into())
     })
 }
@@ -561,6 +580,16 @@ pub(crate) fn record_timed(
     Ok(ctx.read_f32(out)?)
 }
 
+/// The last frame's bent normals and their size (the AO's working resolution).
+pub(crate) fn read_bent_normals(ctx: &GpuContext, ao: &Ao) -> Result<(Vec<[f32; 3]>, u32, u32)> {
+    let t = ao
+        .bent_normals()
+        .context("bent normals missing after a run")?;
+    let v = ctx.read_f32(t)?;
+    let bent = v.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect();
+    Ok((bent, t.width(), t.height()))
+}
+
 fn median_ms(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -654,6 +683,11 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let values = record_timed(a, &ctx, &mut ao, &input, &params)?;
     save_ao(&a.out, &values, a.width, a.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
+    if let Some(path) = &a.bent_normals_out {
+        let (bent, w, h) = read_bent_normals(&ctx, &ao)?;
+        save_vectors(path, &bent, w, h)?;
+        eprintln!("wrote {} ({w}x{h})", path.display());
+    }
 
     if a.depth_out.is_some() || a.normals_out.is_some() {
         let prepared = read_prepared(&ctx, &ao, &input, &params, a.width, a.height)?;

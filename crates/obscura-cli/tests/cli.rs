@@ -942,3 +942,100 @@ fn the_largest_size_fails_cleanly_or_succeeds() {
     }
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// `--bent-normals-out`: from a depth map (a wall 2 units away with a 5 cm step towards the
+/// camera on its right half) a float `.npy` of shape (h, w, 3) cropped to the map, unit
+/// vectors; on the open wall they face the camera (+z), at the foot of the step they lean
+/// away from it (−x); a PNG of the built-in scene; and the traps: another estimator, an
+/// unknown extension, an orbit.
+#[test]
+fn bent_normals_are_written_as_float_and_png() {
+    let d = scratch("bent");
+    let (w, h) = (64usize, 48usize);
+    let depth: Vec<f32> = (0..w * h)
+        .map(|i| if i % w >= 32 { 1.95 } else { 2.0 })
+        .collect();
+    let (dpath, kpath, bent) = (d.join("d.npy"), d.join("k.json"), d.join("bent.npy"));
+    std::fs::write(&dpath, npy_f32(&[h, w], &depth)).unwrap();
+    std::fs::write(
+        &kpath,
+        r#"{"fx": 60, "fy": 60, "cx": 31.5, "cy": 23.5, "width": 64, "height": 48}"#,
+    )
+    .unwrap();
+    let ao = d.join("ao.png");
+    // `render` with `args`, the AO to `ao` and the bent normals to `to`; must succeed.
+    let render = |args: &[&str], to: &Path| {
+        let mut all = vec!["render", "--out", s(&ao), "--bent-normals-out", s(to)];
+        all.extend(args);
+        let out = obscura(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{all:?}: {err}");
+    };
+    let depth_map = ["--depth", s(&dpath), "--intrinsics", s(&kpath)];
+    render(&[&depth_map[..], &["--radius", "0.2"]].concat(), &bent);
+    let bytes = std::fs::read(&bent).unwrap();
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(header.contains(&format!("({h}, {w}, 3)")), "{header}");
+    let v: Vec<f32> = bytes[10 + len..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(v.len(), w * h * 3);
+    let at = |x: usize, y: usize| {
+        let i = 3 * (y * w + x);
+        [v[i], v[i + 1], v[i + 2]]
+    };
+    for b in v.chunks_exact(3) {
+        let n = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+        assert!((n - 1.0).abs() < 1e-3, "|bent| = {n}");
+    }
+    let (open, foot) = (at(10, 24), at(30, 24));
+    assert!(open[2] > 0.99, "open wall: {open:?}");
+    assert!(foot[0] < -0.05, "foot of the step: {foot:?}");
+    let png = d.join("bent.png");
+    render(&["--width", "96", "--height", "64", "--runs", "1"], &png);
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (96, 64));
+    assert!(matches!(img, image::DynamicImage::ImageRgb8(_)));
+    std::fs::remove_dir_all(&d).unwrap();
+    // Checked before any work; nothing is written (assert_fails checks its own folder).
+    let tmp = std::env::temp_dir();
+    let (png, txt) = (
+        tmp.join("obscura-bent-trap.png"),
+        tmp.join("obscura-bent-trap.txt"),
+    );
+    for (args, msg) in [
+        (
+            vec![
+                "render",
+                "--estimator",
+                "hbao",
+                "--bent-normals-out",
+                s(&png),
+            ],
+            "needs --estimator gtao",
+        ),
+        (
+            vec!["render", "--bent-normals-out", s(&txt)],
+            "must end in .png",
+        ),
+        (
+            vec![
+                "render",
+                "--orbit",
+                "10",
+                "--frames",
+                "2",
+                "--out-dir",
+                s(&tmp),
+                "--bent-normals-out",
+                s(&png),
+            ],
+            "--orbit",
+        ),
+    ] {
+        assert_fails("bent-traps", &args, msg);
+        assert!(!png.exists() && !txt.exists());
+    }
+}

@@ -1,6 +1,7 @@
 // The randomized single pass: every full-resolution pixel runs the estimator with the
 // pattern of its position in the 4x4 tile, sampling at rounded pixel offsets. Composed
-// with an estimator (hbao.wgsl or gtao.wgsl: `estimate`) and ao_store_full.wgsl.
+// with an estimator (hbao.wgsl or gtao.wgsl: `estimate`), ao_store_full.wgsl and an
+// ao_bent*.wgsl.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var prepared_in: texture_2d<f32>;
@@ -21,4 +22,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     let pattern = frame.patterns[(gid.x % PATTERN_DIM) + PATTERN_DIM * (gid.y % PATTERN_DIM)];
     store_ao(gid.xy, gid.xy, 0u, estimate(p, textureLoad(prepared_in, p, 0), pattern));
+    store_bent(gid.xy);
 }

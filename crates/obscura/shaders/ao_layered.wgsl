@@ -2,7 +2,8 @@
 // full-resolution pixel (x*SPLIT + l % SPLIT, y*SPLIT + l / SPLIT). A workgroup stays in one
 // layer, so it shares one pattern (no per-pixel randomization), and samples are snapped
 // to the SPLIT-pixel lattice so they stay in the same layer, where neighbouring invocations
-// fetch neighbouring texels. Composed with an estimator and an ao_store_*.wgsl.
+// fetch neighbouring texels. Composed with an estimator, an ao_store_*.wgsl and an
+// ao_bent*.wgsl.
 
 override SPLIT: u32 = 4u;
 
@@ -31,4 +32,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pattern = frame.patterns[corner.x + PATTERN_DIM * corner.y];
     let centre = textureLoad(prepared_in, gid.xy, layer, 0);
     store_ao(full, gid.xy, layer, estimate(vec2<i32>(full), centre, pattern));
+    store_bent(full);
 }

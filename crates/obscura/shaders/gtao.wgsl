@@ -11,10 +11,13 @@
 // angle, which is not even in azimuth around V off the image centre; each slice is weighted
 // by d(azimuth)/d(screen angle) so that an unoccluded surface integrates to exactly 1
 // (without it, a plane near the image edge reads 2-5% occluded). AO = weighted mean.
-// CPU mirror: src/reference.rs, `gtao_pixel`.
+// With BENT_NORMALS the bent normal is integrated from the same horizons (`gtao_bent`)
+// into `bent_normal` (declared by ao_bent*.wgsl). CPU mirror: src/reference.rs,
+// `gtao_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
+override BENT_NORMALS: bool = false;
 
 const PI: f32 = 3.141592653589793;
 const HALF_PI: f32 = 1.5707963267948966;
@@ -40,8 +43,38 @@ fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     return (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
 }
 
+// One side's share of the slice's bent normal (Jimenez et al. 2016, sec. 5: the cosine-
+// weighted mean of the unoccluded directions): the integral from 0 to the horizon h of
+// (sin t, cos t) sin t cos(t - n) dt, in (ortho, V) coordinates, with the measure |sin t|
+// of eq. 10 taken signed as there (the side's sign comes from the direction of
+// integration). Closed form from cos h and sin h, so no trigonometric call:
+//   ortho: cos n sin³h / 3 + sin n (2/3 - cos h + cos³h / 3)
+//   V:     cos n (1 - cos³h) / 3 + sin n sin³h / 3
+// h as in gtao_side: s * acos(c), clamped to n +- pi/2 (where cos h, sin h follow from n).
+fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
+    let t = s * fast_acos(c) - n;
+    var ch = c;
+    var sh = s * sqrt(max(1.0 - c * c, 0.0));
+    if t > HALF_PI {
+        ch = -sin_n;
+        sh = cos_n;
+    } else if t < -HALF_PI {
+        ch = sin_n;
+        sh = -cos_n;
+    }
+    let sh3 = sh * sh * sh;
+    let ch3 = ch * ch * ch;
+    return vec2<f32>(
+        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
+        cos_n * (1.0 - ch3) + sin_n * sh3,
+    ) / 3.0;
+}
+
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let d = centre.x;
+    if BENT_NORMALS {
+        bent_normal = vec3<f32>(0.0);
+    }
     if d <= 0.0 {
         return 1.0;
     }
@@ -55,6 +88,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let size = vec2<i32>(frame.size);
     var visibility = 0.0;
     var weights = 0.0;
+    var bent = vec3<f32>(0.0);
     // Slices cover half a turn (each marches both ways): the pattern's direction, turned by
     // pi / DIRECTIONS after each slice.
     let turn = vec2<f32>(cos(PI / f32(DIRECTIONS)), sin(PI / f32(DIRECTIONS)));
@@ -128,6 +162,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         // Side 0 marched along +dir (positive angles), side 1 along -dir.
         let arcs = gtao_side(hc0, 1.0, n, cos_n, sin_n) + gtao_side(hc1, -1.0, n, cos_n, sin_n);
         visibility += weight * proj_len * arcs;
+        if BENT_NORMALS {
+            let b = gtao_bent(hc0, 1.0, n, cos_n, sin_n) + gtao_bent(hc1, -1.0, n, cos_n, sin_n);
+            bent += weight * proj_len * (b.x * normalize(ortho) + b.y * v);
+        }
+    }
+    if BENT_NORMALS {
+        bent_normal = select(normal, normalize(bent), dot(bent, bent) > 1e-12);
     }
     let per_slice = f32(DIRECTIONS) * visibility / weights;
     return clamp(1.0 - (f32(DIRECTIONS) - per_slice) * frame.ao_scale, 0.0, 1.0);

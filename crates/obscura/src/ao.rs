@@ -19,9 +19,9 @@
 
 use crate::layout::layer_size;
 use crate::shader::{
-    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, HISTORY_FORMAT,
-    LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
-    RESOLVED_DEPTH_FORMAT,
+    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, BENT_FORMAT,
+    HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT,
+    PYRAMID_LEVELS_PER_PASS, RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -90,6 +90,10 @@ enum Res {
     HistoryNext,
     /// History texture 0 or 1 (what `HistoryPrev`/`HistoryNext` resolve to).
     History(u32),
+    /// `bent normals`: work size, BENT_FORMAT (the result, [`Ao::bent_normals`]).
+    Bent,
+    /// `bent normals raw`: work size, BENT_FORMAT (the AO pass's, before the denoiser).
+    BentRaw,
 }
 
 impl Res {
@@ -234,6 +238,9 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         ));
     }
     let ao_target = if direct { Res::Output } else { Res::AoWork };
+    // Bent normals: written by the AO pass, then through the spatial denoiser if any.
+    let bent = o.bent_normals;
+    let filter_bent = bent && o.denoise == Denoise::Spatial;
     let pyramid = |mut v: Vec<(u32, Res)>| {
         if o.estimator.uses_pyramid() {
             v.push((3, Res::Pyramid));
@@ -241,16 +248,20 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         if o.estimator.uses_moments() {
             v.push((3, Res::Moments));
         }
+        if bent {
+            v.push((4, if filter_bent { Res::BentRaw } else { Res::Bent }));
+        }
         v
     };
     let e = o.estimator;
     let layers = |merge| Pass::AoLayered {
         merge,
         estimator: e,
+        bent,
     };
     match (n > 1, fused_prepare, direct) {
         (false, ..) => steps.push(step(
-            Pass::AoFull { estimator: e },
+            Pass::AoFull { estimator: e, bent },
             pyramid(vec![(1, work_prepared), (2, ao_target)]),
             FrameAt::Work,
             Grid::Level(work_level),
@@ -333,9 +344,16 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             } else {
                 Res::Output
             };
+            let mut views = vec![(1, src), (2, current), (3, next)];
+            if filter_bent {
+                views.extend([(4, Res::BentRaw), (5, Res::Bent)]);
+            }
             steps.push(step(
-                Pass::Denoise { layers: src_layers },
-                vec![(1, src), (2, current), (3, next)],
+                Pass::Denoise {
+                    layers: src_layers,
+                    bent: filter_bent,
+                },
+                views,
                 FrameAt::Work,
                 Grid::Level(work_level),
             ));
@@ -629,14 +647,26 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::AoFull { .. } => vec![
-            texture_entry(1, UNFILTERED, D2),
-            storage_entry(2, AO_FORMAT, D2),
-        ],
-        Pass::AoLayered { merge, .. } => vec![
-            texture_entry(1, UNFILTERED, D2_ARRAY),
-            storage_entry(2, AO_FORMAT, dim(!merge)),
-        ],
+        Pass::AoFull { bent, .. } => {
+            let mut v = vec![
+                texture_entry(1, UNFILTERED, D2),
+                storage_entry(2, AO_FORMAT, D2),
+            ];
+            if bent {
+                v.push(storage_entry(4, BENT_FORMAT, D2));
+            }
+            v
+        }
+        Pass::AoLayered { merge, bent, .. } => {
+            let mut v = vec![
+                texture_entry(1, UNFILTERED, D2_ARRAY),
+                storage_entry(2, AO_FORMAT, dim(!merge)),
+            ];
+            if bent {
+                v.push(storage_entry(4, BENT_FORMAT, D2));
+            }
+            v
+        }
         // The split reuses the prepare store fragment (binding 3); 2 is unused.
         Pass::Deinterleave => vec![
             texture_entry(1, UNFILTERED, D2),
@@ -673,11 +703,20 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Denoise { layers } => vec![
-            texture_entry(1, UNFILTERED, dim(layers)),
-            texture_entry(2, UNFILTERED, D2),
-            storage_entry(3, AO_FORMAT, D2),
-        ],
+        Pass::Denoise { layers, bent } => {
+            let mut v = vec![
+                texture_entry(1, UNFILTERED, dim(layers)),
+                texture_entry(2, UNFILTERED, D2),
+                storage_entry(3, AO_FORMAT, D2),
+            ];
+            if bent {
+                v.extend([
+                    texture_entry(4, UNFILTERED, D2),
+                    storage_entry(5, BENT_FORMAT, D2),
+                ]);
+            }
+            v
+        }
         Pass::Temporal { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
@@ -704,7 +743,7 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         ],
     };
     let pyramid = match pass {
-        Pass::AoFull { estimator } | Pass::AoLayered { estimator, .. } => {
+        Pass::AoFull { estimator, .. } | Pass::AoLayered { estimator, .. } => {
             estimator.uses_pyramid() || estimator.uses_moments()
         }
         _ => false,
@@ -1178,6 +1217,8 @@ impl Ao {
                     Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
                     Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
                     Res::History(_) => ("obscura ao history", work, 1, HISTORY_FORMAT),
+                    Res::Bent => ("obscura bent normals", work, 1, BENT_FORMAT),
+                    Res::BentRaw => ("obscura bent normals raw", work, 1, BENT_FORMAT),
                     Res::Output | Res::HistoryPrev | Res::HistoryNext => {
                         unreachable!("the output is created on demand; history resolves by parity")
                     }
@@ -1679,6 +1720,13 @@ impl Ao {
     /// resolution), `ceil(size / 2^k)`, `Rgba32Float`.
     pub fn prepared_level(&self, k: u32) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Level(k)))
+    }
+
+    /// The bent normals of the last frame ([`AoOptions::bent_normals`]): `Rgba32Float` at
+    /// the working resolution, `vec4(n, 0)` with n the unit bent normal in view space
+    /// (+z toward the camera, as the prepared normals), zero on sky.
+    pub fn bent_normals(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::Bent))
     }
 
     /// Forgets the temporal history: the next frame starts a new one (as after a camera

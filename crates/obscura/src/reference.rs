@@ -524,12 +524,37 @@ fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25
 }
 
+/// One side's share of a GTAO slice's bent normal in (ortho, V) coordinates; mirrors
+/// `gtao_bent` in shaders/gtao.wgsl (closed form there).
+fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
+    use std::f32::consts::FRAC_PI_2;
+    let t = s * fast_acos(c) - n;
+    let (ch, sh) = if t > FRAC_PI_2 {
+        (-sin_n, cos_n)
+    } else if t < -FRAC_PI_2 {
+        (sin_n, -cos_n)
+    } else {
+        (c, s * (1.0 - c * c).max(0.0).sqrt())
+    };
+    let (sh3, ch3) = (sh * sh * sh, ch * ch * ch);
+    glam::Vec2::new(
+        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
+        cos_n * (1.0 - ch3) + sin_n * sh3,
+    ) / 3.0
+}
+
 /// GTAO of one pixel; mirrors `estimate` in shaders/gtao.wgsl.
 pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    gtao_pixel_bent(px, p, pattern).0
+}
+
+/// GTAO of one pixel and its bent normal (unit, view space; zero on sky); mirrors
+/// `estimate` in shaders/gtao.wgsl with BENT_NORMALS.
+pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
     use std::f32::consts::PI;
     let f = px.f;
     let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
-        return 1.0;
+        return (1.0, Vec3::ZERO);
     };
     let v = if f.perspective != 0 {
         (-pos).normalize()
@@ -539,6 +564,7 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     let step_px = f.step_px(d, px.steps);
     let mut visibility = 0.0;
     let mut weights = 0.0;
+    let mut bent = Vec3::ZERO;
     let (ts, tc) = (PI / px.directions as f32).sin_cos();
     let mut dir = [pattern[0], pattern[1]];
     for i in 0..px.directions {
@@ -602,10 +628,20 @@ pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         }
         let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
         visibility += weight * proj_len * arcs;
+        let b = gtao_bent(hc[0], 1.0, n, cos_n, sin_n) + gtao_bent(hc[1], -1.0, n, cos_n, sin_n);
+        bent += weight * proj_len * (b.x * ortho.normalize() + b.y * v);
     }
     let dirs = px.directions as f32;
     let per_slice = dirs * visibility / weights;
-    (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0)
+    let bent = if bent.length_squared() > 1e-12 {
+        bent.normalize()
+    } else {
+        normal
+    };
+    (
+        (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0),
+        bent,
+    )
 }
 
 /// VO (`offset` 0) or VAO (`offset` 0.5) of one pixel; mirrors `estimate` in
@@ -769,6 +805,42 @@ pub fn ao_over(
     full_size: [u32; 2],
     full: &[Vec4],
 ) -> Vec<f32> {
+    over_pixels(
+        f,
+        options,
+        prepared,
+        full_size,
+        full,
+        |px, q, pattern| match options.estimator {
+            crate::Estimator::Hbao => hbao_pixel(px, q, pattern),
+            crate::Estimator::Gtao => gtao_pixel(px, q, pattern),
+            crate::Estimator::Vo => sphere_pixel(px, q, pattern, 0.0, false),
+            crate::Estimator::Vao => sphere_pixel(px, q, pattern, 0.5, false),
+            crate::Estimator::VoArea => sphere_pixel(px, q, pattern, 0.0, true),
+            crate::Estimator::Sao => sao_pixel(px, q, pattern),
+        },
+    )
+}
+
+/// GTAO's bent normals ([`crate::AoOptions::bent_normals`]) over the grid of `f` (the
+/// working frame; `prepared` its level) with the patterns and lattice of the mode, as the
+/// AO pass writes them before any denoiser (unit, view space; zero on sky).
+pub fn bent_normals(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<Vec3> {
+    over_pixels(f, options, prepared, f.size, prepared, |px, q, pattern| {
+        gtao_pixel_bent(px, q, pattern).1
+    })
+}
+
+/// `pixel` at every pixel of `f`'s grid with the pattern and sampling lattice of the mode
+/// (what [`ao_over`] runs the estimator with).
+fn over_pixels<T>(
+    f: &FrameUniforms,
+    options: &crate::AoOptions,
+    prepared: &[Vec4],
+    full_size: [u32; 2],
+    full: &[Vec4],
+    pixel: impl Fn(&Pixels, [i32; 2], [f32; 4]) -> T,
+) -> Vec<T> {
     let n = options.mode.split();
     let (dim, lattice) = if n == 1 {
         (crate::jitter::PATTERN_DIM, 1)
@@ -798,15 +870,7 @@ pub fn ao_over(
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
             let pattern = f.patterns[crate::jitter::pattern_index(x, y, dim)];
-            let q = [x as i32, y as i32];
-            out.push(match options.estimator {
-                crate::Estimator::Hbao => hbao_pixel(&px, q, pattern),
-                crate::Estimator::Gtao => gtao_pixel(&px, q, pattern),
-                crate::Estimator::Vo => sphere_pixel(&px, q, pattern, 0.0, false),
-                crate::Estimator::Vao => sphere_pixel(&px, q, pattern, 0.5, false),
-                crate::Estimator::VoArea => sphere_pixel(&px, q, pattern, 0.0, true),
-                crate::Estimator::Sao => sao_pixel(&px, q, pattern),
-            });
+            out.push(pixel(&px, [x as i32, y as i32], pattern));
         }
     }
     out
@@ -1051,29 +1115,84 @@ pub fn upsample(
 /// `prepared` its prepared values per pixel, `period` the pattern period 2 or 4); mirrors
 /// shaders/denoise.wgsl.
 pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) -> Vec<f32> {
-    use crate::shader::{
-        DENOISE_RADIUS_TOLERANCE, DENOISE_RIDGE, NOISE_TOLERANCE_SIGMAS, PLANE_TOLERANCE,
-    };
-    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
-    let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
-    let r = (period / 2) as i32;
+    use crate::shader::DENOISE_RIDGE;
+    let w = f.size[0] as i32;
     let mut out = Vec::with_capacity(ao.len());
-    for y in 0..h {
-        for x in 0..w {
+    for (i, taps) in denoise_taps(f, prepared, period).enumerate() {
+        let Some(taps) = taps else {
+            out.push(ao[i]);
+            continue;
+        };
+        // Weighted sums of 1, v, d, v·d and d⊗d (xx, yy, xy), d the tap's offset.
+        let (mut total, mut sum) = (0.0f32, 0.0f32);
+        let (mut sum_d, mut sum_vd) = (glam::Vec2::ZERO, glam::Vec2::ZERO);
+        let mut sum_dd = Vec3::ZERO;
+        for (q, d, wgt) in taps {
+            let v = ao[(q[1] * w + q[0]) as usize];
+            total += wgt;
+            sum += wgt * v;
+            sum_d += wgt * d;
+            sum_vd += wgt * v * d;
+            sum_dd += wgt * Vec3::new(d.x * d.x, d.y * d.y, d.x * d.y);
+        }
+        // The weighted least-squares plane's value at the centre.
+        let mean = sum / total;
+        let m = sum_d / total;
+        let xx = sum_dd.x / total - m.x * m.x + DENOISE_RIDGE;
+        let yy = sum_dd.y / total - m.y * m.y + DENOISE_RIDGE;
+        let xy = sum_dd.z / total - m.x * m.y;
+        let c = sum_vd / total - m * mean;
+        let g = glam::Vec2::new(yy * c.x - xy * c.y, xx * c.y - xy * c.x) / (xx * yy - xy * xy);
+        out.push((mean - g.dot(m)).clamp(0.0, 1.0));
+    }
+    out
+}
+
+/// The denoiser's bent normals (shaders/denoise_bent.wgsl): each pixel the renormalised
+/// mean of its taps' `bent` with the AO's weights; sky pixels pass through.
+pub fn denoise_bent(f: &FrameUniforms, prepared: &[Vec4], bent: &[Vec3], period: u32) -> Vec<Vec3> {
+    let w = f.size[0] as i32;
+    denoise_taps(f, prepared, period)
+        .enumerate()
+        .map(|(i, taps)| {
+            let sum: Vec3 = taps
+                .into_iter()
+                .flatten()
+                .map(|(q, _, wgt)| wgt * bent[(q[1] * w + q[0]) as usize])
+                .sum();
+            if prepared[i].x > 0.0 && sum.length_squared() > 1e-12 {
+                sum.normalize()
+            } else {
+                bent[i]
+            }
+        })
+        .collect()
+}
+
+/// The denoiser's taps of every pixel in row order: `None` for sky, else each tap's pixel,
+/// offset and weight (shaders/denoise.wgsl).
+fn denoise_taps<'a>(
+    f: &'a FrameUniforms,
+    prepared: &'a [Vec4],
+    period: u32,
+) -> impl Iterator<Item = Option<Vec<([i32; 2], glam::Vec2, f32)>>> + 'a {
+    use crate::shader::{DENOISE_RADIUS_TOLERANCE, NOISE_TOLERANCE_SIGMAS, PLANE_TOLERANCE};
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let at = move |p: [i32; 2]| (p[1] * w + p[0]) as usize;
+    let r = (period / 2) as i32;
+    (0..h)
+        .flat_map(move |y| (0..w).map(move |x| (x, y)))
+        .map(move |(x, y)| {
             let c = prepared[at([x, y])];
             if c.x <= 0.0 {
-                out.push(ao[at([x, y])]);
-                continue;
+                return None;
             }
             let pos = f.view_position(centre([x, y]), c.x);
             let n = Vec3::new(c.y, c.z, c.w);
             let tol = (PLANE_TOLERANCE * c.x)
                 .min(DENOISE_RADIUS_TOLERANCE * f.radius)
                 .max(NOISE_TOLERANCE_SIGMAS * f.depth_sigma(c.x));
-            // Weighted sums of 1, v, d, v·d and d⊗d (xx, yy, xy), d the tap's offset.
-            let (mut total, mut sum) = (0.0f32, 0.0f32);
-            let (mut sum_d, mut sum_vd) = (glam::Vec2::ZERO, glam::Vec2::ZERO);
-            let mut sum_dd = Vec3::ZERO;
+            let mut taps = Vec::with_capacity(((2 * r + 1) * (2 * r + 1)) as usize);
             for dy in -r..=r {
                 for dx in -r..=r {
                     // Mirrored at the image border, as the shader.
@@ -1092,26 +1211,11 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
                     let spatial = |d: i32| if d.abs() == r { 1.0 } else { 2.0 };
                     let wgt =
                         spatial(dx) * spatial(dy) * (-z * z).exp() * sn.dot(n).max(0.0).powi(8);
-                    let (v, d) = (ao[at(q)], glam::Vec2::new(dx as f32, dy as f32));
-                    total += wgt;
-                    sum += wgt * v;
-                    sum_d += wgt * d;
-                    sum_vd += wgt * v * d;
-                    sum_dd += wgt * Vec3::new(d.x * d.x, d.y * d.y, d.x * d.y);
+                    taps.push((q, glam::Vec2::new(dx as f32, dy as f32), wgt));
                 }
             }
-            // The weighted least-squares plane's value at the centre.
-            let mean = sum / total;
-            let m = sum_d / total;
-            let xx = sum_dd.x / total - m.x * m.x + DENOISE_RIDGE;
-            let yy = sum_dd.y / total - m.y * m.y + DENOISE_RIDGE;
-            let xy = sum_dd.z / total - m.x * m.y;
-            let c = sum_vd / total - m * mean;
-            let g = glam::Vec2::new(yy * c.x - xy * c.y, xx * c.y - xy * c.x) / (xx * yy - xy * xy);
-            out.push((mean - g.dot(m)).clamp(0.0, 1.0));
-        }
-    }
-    out
+            Some(taps)
+        })
 }
 
 /// A unit normal as one float (shaders/temporal.wgsl, `pack_normal`): octahedral

@@ -85,6 +85,12 @@ impl Estimator {
     pub fn uses_moments(self) -> bool {
         self == Estimator::VoArea
     }
+
+    /// Whether the estimator can output bent normals ([`AoOptions::bent_normals`]): GTAO,
+    /// whose horizons bound the unoccluded arc of every slice.
+    pub fn has_bent_normals(self) -> bool {
+        self == Estimator::Gtao
+    }
 }
 
 /// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
@@ -412,6 +418,13 @@ pub struct AoOptions {
     /// together. 0 = off (default); N ≥ 2: at most N frames of history (the blend weight
     /// of the current frame never drops below 1/N). Range 0 or 2..=256.
     pub history: u32,
+    /// Bent normals beside the AO ([`crate::Ao::bent_normals`]): per pixel the unit,
+    /// view-space, cosine-weighted mean of the unoccluded directions (Jimenez et al. 2016,
+    /// sec. 5), integrated from the same horizons as the AO, for diffuse environment
+    /// lighting and specular occlusion. At the AO's working resolution (not upsampled);
+    /// through the spatial denoiser (same weights), not through the temporal pass or the
+    /// box/tent filters. GTAO only ([`Estimator::has_bent_normals`]). Default `false`.
+    pub bent_normals: bool,
 }
 
 /// Per-pixel depth uncertainty of the input, σ(d) = `constant` + `linear` · d +
@@ -488,6 +501,7 @@ impl Default for AoOptions {
             denoise: Denoise::Spatial,
             pyramid: PyramidBuild::Auto,
             history: 0,
+            bent_normals: false,
         }
     }
 }
@@ -601,6 +615,12 @@ impl AoOptions {
             "history",
             self.history,
             "0 (off) or a frame count in 2..=256",
+        )?;
+        check(
+            !self.bent_normals || self.estimator.has_bent_normals(),
+            "bent_normals",
+            format!("true with estimator {}", self.estimator.name()),
+            "false unless the estimator is gtao",
         )
     }
 

@@ -102,6 +102,8 @@ pub const HISTORY_NORMAL_COS: f32 = 0.9;
 /// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth,
 /// normal)`, the view-space normal packed in one float (shaders/temporal.wgsl, `pack_normal`).
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Bent normals ([`crate::AoOptions::bent_normals`]): `vec4(n, 0)`, n unit, view space.
+pub const BENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
 /// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
 pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
@@ -188,11 +190,17 @@ pub enum Pass {
         reconstruct: bool,
         fit: bool,
     },
-    /// The randomized single full-resolution AO pass.
-    AoFull { estimator: Estimator },
+    /// The randomized single full-resolution AO pass; `bent`: bent normals written too
+    /// (GTAO only).
+    AoFull { estimator: Estimator, bent: bool },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
-    /// else keep the result in layers for [`Pass::Interleave`].
-    AoLayered { merge: bool, estimator: Estimator },
+    /// else keep the result in layers for [`Pass::Interleave`]; `bent` as for
+    /// [`Pass::AoFull`] (always written at full resolution).
+    AoLayered {
+        merge: bool,
+        estimator: Estimator,
+        bent: bool,
+    },
     /// Full-resolution prepared buffer → layers (unfused split).
     Deinterleave,
     /// AO layers → full resolution (unfused merge).
@@ -209,8 +217,8 @@ pub enum Pass {
     /// Low-resolution AO → full resolution.
     Upsample { upsampler: Upsampler },
     /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
-    /// layers (fused deinterleaved modes).
-    Denoise { layers: bool },
+    /// layers (fused deinterleaved modes); `bent`: bent normals filtered too.
+    Denoise { layers: bool, bent: bool },
     /// Temporal accumulation (history reprojection, rejection, clamp, blend).
     Temporal { layers: bool },
     /// AO 2×2 → 1 by seed 003's box or tent filter.
@@ -242,9 +250,20 @@ impl Pass {
             }
         }
         for estimator in Estimator::ALL {
-            v.push(Pass::AoFull { estimator });
-            for merge in [true, false] {
-                v.push(Pass::AoLayered { merge, estimator });
+            let bents = if estimator.has_bent_normals() {
+                &[false, true][..]
+            } else {
+                &[false][..]
+            };
+            for &bent in bents {
+                v.push(Pass::AoFull { estimator, bent });
+                for merge in [true, false] {
+                    v.push(Pass::AoLayered {
+                        merge,
+                        estimator,
+                        bent,
+                    });
+                }
             }
         }
         v.extend([Pass::Deinterleave, Pass::Interleave, Pass::ResolveDepth]);
@@ -261,7 +280,14 @@ impl Pass {
         v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
         for b in [false, true] {
             v.extend([
-                Pass::Denoise { layers: b },
+                Pass::Denoise {
+                    layers: b,
+                    bent: false,
+                },
+                Pass::Denoise {
+                    layers: b,
+                    bent: true,
+                },
                 Pass::Temporal { layers: b },
                 Pass::AoDownsample { tent: b },
             ]);
@@ -282,15 +308,17 @@ impl Pass {
                     }
                 }
             }
-            Pass::AoFull { estimator } => ao_label(estimator, 0),
+            Pass::AoFull { estimator, bent } => ao_label(estimator, 0, bent),
             Pass::AoLayered {
                 merge: true,
                 estimator,
-            } => ao_label(estimator, 1),
+                bent,
+            } => ao_label(estimator, 1, bent),
             Pass::AoLayered {
                 merge: false,
                 estimator,
-            } => ao_label(estimator, 2),
+                bent,
+            } => ao_label(estimator, 2, bent),
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
             Pass::Pyramid { source } => match source {
@@ -316,8 +344,12 @@ impl Pass {
                 Upsampler::Classified => "upsample_classified",
                 Upsampler::Bilateral => "upsample_bilateral",
             },
-            Pass::Denoise { layers: false } => "denoise",
-            Pass::Denoise { layers: true } => "denoise_from_layers",
+            Pass::Denoise { layers, bent } => [
+                "denoise",
+                "denoise_from_layers",
+                "denoise_bent",
+                "denoise_bent_from_layers",
+            ][layers as usize + 2 * bent as usize],
             Pass::Temporal { layers: false } => "temporal",
             Pass::Temporal { layers: true } => "temporal_from_layers",
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
@@ -403,15 +435,20 @@ impl Pass {
                 }
                 v
             }
-            Pass::AoFull { estimator } => sphere_chord(estimator)
+            Pass::AoFull { estimator, bent } => sphere_chord(estimator)
                 .into_iter()
                 .chain([
                     estimator_source(estimator),
                     STORE_AO_FULL,
+                    ao_bent(bent),
                     include_str!("../shaders/ao_full.wgsl"),
                 ])
                 .collect(),
-            Pass::AoLayered { merge, estimator } => sphere_chord(estimator)
+            Pass::AoLayered {
+                merge,
+                estimator,
+                bent,
+            } => sphere_chord(estimator)
                 .into_iter()
                 .chain([
                     estimator_source(estimator),
@@ -420,6 +457,7 @@ impl Pass {
                     } else {
                         STORE_AO_LAYERS
                     },
+                    ao_bent(bent),
                     include_str!("../shaders/ao_layered.wgsl"),
                 ])
                 .collect(),
@@ -449,9 +487,14 @@ impl Pass {
                     Upsampler::Bilateral => include_str!("../shaders/upsample_bilateral.wgsl"),
                 },
             ],
-            Pass::Denoise { layers } => {
+            Pass::Denoise { layers, bent } => {
                 vec![
                     prepared_source(layers),
+                    if bent {
+                        include_str!("../shaders/denoise_bent.wgsl")
+                    } else {
+                        include_str!("../shaders/denoise_bent_none.wgsl")
+                    },
                     include_str!("../shaders/denoise.wgsl"),
                 ]
             }
@@ -537,7 +580,7 @@ impl Pass {
             Pass::Pyramid { .. } | Pass::PyramidLevels | Pass::ResolveDepth => vec![],
             Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
             Pass::Downsample { rule: r, level } => rule(r, level),
-            Pass::Denoise { layers } => {
+            Pass::Denoise { layers, .. } => {
                 let period = ("PERIOD", options.pattern_period() as f64);
                 if layers {
                     vec![period, split]
@@ -553,17 +596,46 @@ impl Pass {
                 }
             }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
-            Pass::AoFull { estimator: e } => [&estimator[..], &sphere(e)[..]].concat(),
-            Pass::AoLayered { estimator: e, .. } => {
-                [&estimator[..], &sphere(e)[..], &[split]].concat()
+            Pass::AoFull { estimator: e, bent } => {
+                [&estimator[..], &sphere(e)[..], &bent_constant(e, bent)[..]].concat()
             }
+            Pass::AoLayered {
+                estimator: e, bent, ..
+            } => [
+                &estimator[..],
+                &sphere(e)[..],
+                &[split],
+                &bent_constant(e, bent)[..],
+            ]
+            .concat(),
         }
     }
 }
 
+/// GTAO's `BENT_NORMALS` (the other estimators declare no such constant).
+fn bent_constant(e: Estimator, bent: bool) -> Vec<(&'static str, f64)> {
+    if e == Estimator::Gtao {
+        vec![("BENT_NORMALS", bent as u32 as f64)]
+    } else {
+        vec![]
+    }
+}
+
+/// The AO pass's bent-normal fragment: stored, or the empty interface.
+fn ao_bent(bent: bool) -> &'static str {
+    if bent {
+        include_str!("../shaders/ao_bent.wgsl")
+    } else {
+        include_str!("../shaders/ao_bent_none.wgsl")
+    }
+}
+
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
-/// 2 = layers kept for the interleave pass.
-fn ao_label(e: Estimator, kind: usize) -> &'static str {
+/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO only).
+fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
+    if bent {
+        return ["gtao_bent", "gtao_bent_layers_merge", "gtao_bent_layers"][kind];
+    }
     let names: [&'static str; 3] = match e {
         Estimator::Hbao => ["hbao", "hbao_layers_merge", "hbao_layers"],
         Estimator::Gtao => ["gtao", "gtao_layers_merge", "gtao_layers"],

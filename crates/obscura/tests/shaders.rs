@@ -27,6 +27,7 @@ fn every_pass_validates() {
 fn frame_uniforms_layout_matches_wgsl() {
     let module = parse(Pass::AoFull {
         estimator: obscura::Estimator::Hbao,
+        bent: false,
     });
     let (members, span) = module
         .types
