@@ -15,7 +15,8 @@
 //     frame.history_max): a plain average of up to history_max frames, then an
 //     exponential one.
 // Without valid history (first frame, cut, resize, sky, disocclusion) frames = 1, AO =
-// current. Composed after prepared_full.wgsl or prepared_layers.wgsl.
+// current. Bent normals, when on, follow with the same texels and weights
+// (temporal_bent.wgsl). Composed after prepared_full.wgsl or prepared_layers.wgsl.
 // CPU mirror: src/reference.rs, `temporal`.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
@@ -82,6 +83,7 @@ fn reprojected(pos: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
         let w = select(1.0 - f.x, f.x, o.x == 1) * select(1.0 - f.y, f.y, o.y == 1);
         sum += w * h.xy;
         total += w;
+        bent_history_tap(t, w);
     }
     if total < 1e-3 {
         return vec2<f32>(0.0);
@@ -99,6 +101,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let centre = prepared_at(p);
     var ao = current;
     var frames = 1.0;
+    var kept = false;
     if frame.history != 0u && centre.x > 0.0 {
         let h = reprojected(view_position(vec2<f32>(p) + 0.5, centre.x), centre.yzw);
         if h.y > 0.0 {
@@ -115,6 +118,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             frames = min(h.y + 1.0, frame.history_max);
             ao = mix(clamp(h.x, lo, hi), current, 1.0 / frames);
+            kept = true;
         }
     }
     if centre.x <= 0.0 {
@@ -122,4 +126,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     textureStore(history_out, p, vec4<f32>(ao, frames, centre.x, pack_normal(centre.yzw)));
     textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
+    bent_finish(p, kept, 1.0 / max(frames, 1.0));
 }

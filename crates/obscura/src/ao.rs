@@ -92,8 +92,18 @@ enum Res {
     History(u32),
     /// `bent normals`: work size, BENT_FORMAT (the result, [`Ao::bent_normals`]).
     Bent,
-    /// `bent normals raw`: work size, BENT_FORMAT (the AO pass's, before the denoiser).
+    /// `bent normals raw`: work size, BENT_FORMAT (the AO pass's, when a temporal pass or
+    /// the denoiser follows).
     BentRaw,
+    /// `bent normals accumulated`: work size, BENT_FORMAT (between the temporal pass and
+    /// the denoiser).
+    BentTmp,
+    /// The bent-normal history read this frame, as [`Res::HistoryPrev`].
+    BentHistoryPrev,
+    /// The bent-normal history written this frame, as [`Res::HistoryNext`].
+    BentHistoryNext,
+    /// Bent-normal history texture 0 or 1: work size, BENT_FORMAT.
+    BentHistory(u32),
 }
 
 impl Res {
@@ -102,6 +112,8 @@ impl Res {
         match self {
             Res::HistoryPrev => Res::History(parity),
             Res::HistoryNext => Res::History(1 - parity),
+            Res::BentHistoryPrev => Res::BentHistory(parity),
+            Res::BentHistoryNext => Res::BentHistory(1 - parity),
             r => r,
         }
     }
@@ -238,9 +250,11 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         ));
     }
     let ao_target = if direct { Res::Output } else { Res::AoWork };
-    // Bent normals: written by the AO pass, then through the spatial denoiser if any.
+    // Bent normals: written by the AO pass, then through the temporal pass and the spatial
+    // denoiser if any.
     let bent = o.bent_normals;
     let filter_bent = bent && o.denoise == Denoise::Spatial;
+    let accumulate_bent = bent && o.history > 0;
     let pyramid = |mut v: Vec<(u32, Res)>| {
         if o.estimator.uses_pyramid() {
             v.push((3, Res::Pyramid));
@@ -249,7 +263,8 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             v.push((3, Res::Moments));
         }
         if bent {
-            v.push((4, if filter_bent { Res::BentRaw } else { Res::Bent }));
+            let raw = filter_bent || accumulate_bent;
+            v.push((4, if raw { Res::BentRaw } else { Res::Bent }));
         }
         v
     };
@@ -322,15 +337,27 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     if o.history > 0 {
         let more = o.denoise != Denoise::None || upsample;
         let next = if more { other(current) } else { Res::Output };
+        let mut views = vec![
+            (1, src),
+            (2, current),
+            (3, Res::HistoryPrev),
+            (4, Res::HistoryNext),
+            (5, next),
+        ];
+        if accumulate_bent {
+            views.extend([
+                (6, Res::BentRaw),
+                (7, Res::BentHistoryPrev),
+                (8, Res::BentHistoryNext),
+                (9, if filter_bent { Res::BentTmp } else { Res::Bent }),
+            ]);
+        }
         steps.push(step(
-            Pass::Temporal { layers: src_layers },
-            vec![
-                (1, src),
-                (2, current),
-                (3, Res::HistoryPrev),
-                (4, Res::HistoryNext),
-                (5, next),
-            ],
+            Pass::Temporal {
+                layers: src_layers,
+                bent: accumulate_bent,
+            },
+            views,
             FrameAt::Work,
             Grid::Level(work_level),
         ));
@@ -346,7 +373,12 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             };
             let mut views = vec![(1, src), (2, current), (3, next)];
             if filter_bent {
-                views.extend([(4, Res::BentRaw), (5, Res::Bent)]);
+                let from = if accumulate_bent {
+                    Res::BentTmp
+                } else {
+                    Res::BentRaw
+                };
+                views.extend([(4, from), (5, Res::Bent)]);
             }
             steps.push(step(
                 Pass::Denoise {
@@ -717,13 +749,24 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Temporal { layers } => vec![
-            texture_entry(1, UNFILTERED, dim(layers)),
-            texture_entry(2, UNFILTERED, D2),
-            texture_entry(3, UNFILTERED, D2),
-            storage_entry(4, HISTORY_FORMAT, D2),
-            storage_entry(5, AO_FORMAT, D2),
-        ],
+        Pass::Temporal { layers, bent } => {
+            let mut v = vec![
+                texture_entry(1, UNFILTERED, dim(layers)),
+                texture_entry(2, UNFILTERED, D2),
+                texture_entry(3, UNFILTERED, D2),
+                storage_entry(4, HISTORY_FORMAT, D2),
+                storage_entry(5, AO_FORMAT, D2),
+            ];
+            if bent {
+                v.extend([
+                    texture_entry(6, UNFILTERED, D2),
+                    texture_entry(7, UNFILTERED, D2),
+                    storage_entry(8, BENT_FORMAT, D2),
+                    storage_entry(9, BENT_FORMAT, D2),
+                ]);
+            }
+            v
+        }
         Pass::AoDownsample { .. } => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
@@ -1179,6 +1222,9 @@ impl Ao {
                     Res::PyramidMip(_) => vec![Res::Pyramid],
                     Res::MomentsMip(_) => vec![Res::Moments],
                     Res::HistoryPrev | Res::HistoryNext => vec![Res::History(0), Res::History(1)],
+                    Res::BentHistoryPrev | Res::BentHistoryNext => {
+                        vec![Res::BentHistory(0), Res::BentHistory(1)]
+                    }
                     r => vec![r],
                 };
                 for r in rs {
@@ -1219,7 +1265,13 @@ impl Ao {
                     Res::History(_) => ("obscura ao history", work, 1, HISTORY_FORMAT),
                     Res::Bent => ("obscura bent normals", work, 1, BENT_FORMAT),
                     Res::BentRaw => ("obscura bent normals raw", work, 1, BENT_FORMAT),
-                    Res::Output | Res::HistoryPrev | Res::HistoryNext => {
+                    Res::BentTmp => ("obscura bent normals accumulated", work, 1, BENT_FORMAT),
+                    Res::BentHistory(_) => ("obscura bent normal history", work, 1, BENT_FORMAT),
+                    Res::Output
+                    | Res::HistoryPrev
+                    | Res::HistoryNext
+                    | Res::BentHistoryPrev
+                    | Res::BentHistoryNext => {
                         unreachable!("the output is created on demand; history resolves by parity")
                     }
                 };
@@ -1722,7 +1774,8 @@ impl Ao {
         self.sized.as_ref().and_then(|s| s.texture(Res::Level(k)))
     }
 
-    /// The bent normals of the last frame ([`AoOptions::bent_normals`]): `Rgba32Float` at
+    /// The bent normals of the last frame ([`AoOptions::bent_normals`]), after the temporal
+    /// pass and the denoiser where they run: `Rgba32Float` at
     /// the working resolution, `vec4(n, 0)` with n the unit bent normal in view space
     /// (+z toward the camera, as the prepared normals), zero on sky.
     pub fn bent_normals(&self) -> Option<&wgpu::Texture> {
@@ -1752,6 +1805,22 @@ impl Ao {
             .as_ref()
             .filter(|_| self.temporal.frame > 0)
             .and_then(|s| s.texture(Res::History(parity)))
+    }
+
+    /// The bent-normal history written by the last frame (as [`Ao::bent_normals`]), when
+    /// bent normals and [`AoOptions::history`] are on and a frame was recorded.
+    pub fn bent_history(&self) -> Option<&wgpu::Texture> {
+        let parity = self.temporal.parity;
+        self.sized
+            .as_ref()
+            .filter(|_| self.temporal.frame > 0)
+            .and_then(|s| s.texture(Res::BentHistory(parity)))
+    }
+
+    /// The AO pass's own bent normals, when a temporal pass or the denoiser follows it (for
+    /// tests against the CPU mirror).
+    pub fn bent_normals_raw(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::BentRaw))
     }
 
     /// The AO at working resolution: below full resolution what the upsampler reads

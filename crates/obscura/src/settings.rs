@@ -422,8 +422,9 @@ pub struct AoOptions {
     /// view-space, cosine-weighted mean of the unoccluded directions (Jimenez et al. 2016,
     /// sec. 5), integrated from the same horizons as the AO, for diffuse environment
     /// lighting and specular occlusion. At the AO's working resolution (not upsampled);
-    /// through the spatial denoiser (same weights), not through the temporal pass or the
-    /// box/tent filters. GTAO only ([`Estimator::has_bent_normals`]). Default `false`.
+    /// through the temporal pass and the spatial denoiser with the AO's texels and weights,
+    /// not through the box/tent filters. GTAO only ([`Estimator::has_bent_normals`]).
+    /// Default `false`.
     pub bent_normals: bool,
 }
 

@@ -219,8 +219,9 @@ pub enum Pass {
     /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
     /// layers (fused deinterleaved modes); `bent`: bent normals filtered too.
     Denoise { layers: bool, bent: bool },
-    /// Temporal accumulation (history reprojection, rejection, clamp, blend).
-    Temporal { layers: bool },
+    /// Temporal accumulation (history reprojection, rejection, clamp, blend); `bent`: bent
+    /// normals accumulated too.
+    Temporal { layers: bool, bent: bool },
     /// AO 2×2 → 1 by seed 003's box or tent filter.
     AoDownsample { tent: bool },
     /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
@@ -288,7 +289,14 @@ impl Pass {
                     layers: b,
                     bent: true,
                 },
-                Pass::Temporal { layers: b },
+                Pass::Temporal {
+                    layers: b,
+                    bent: false,
+                },
+                Pass::Temporal {
+                    layers: b,
+                    bent: true,
+                },
                 Pass::AoDownsample { tent: b },
             ]);
         }
@@ -350,8 +358,12 @@ impl Pass {
                 "denoise_bent",
                 "denoise_bent_from_layers",
             ][layers as usize + 2 * bent as usize],
-            Pass::Temporal { layers: false } => "temporal",
-            Pass::Temporal { layers: true } => "temporal_from_layers",
+            Pass::Temporal { layers, bent } => [
+                "temporal",
+                "temporal_from_layers",
+                "temporal_bent",
+                "temporal_bent_from_layers",
+            ][layers as usize + 2 * bent as usize],
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
@@ -498,9 +510,14 @@ impl Pass {
                     include_str!("../shaders/denoise.wgsl"),
                 ]
             }
-            Pass::Temporal { layers } => {
+            Pass::Temporal { layers, bent } => {
                 vec![
                     prepared_source(layers),
+                    if bent {
+                        include_str!("../shaders/temporal_bent.wgsl")
+                    } else {
+                        include_str!("../shaders/temporal_bent_none.wgsl")
+                    },
                     include_str!("../shaders/temporal.wgsl"),
                 ]
             }
@@ -588,7 +605,7 @@ impl Pass {
                     vec![period]
                 }
             }
-            Pass::Temporal { layers } => {
+            Pass::Temporal { layers, .. } => {
                 if layers {
                     vec![split]
                 } else {

@@ -1799,6 +1799,7 @@ fn frames_create_no_gpu_objects() {
         AoOptions {
             denoise: Denoise::Spatial,
             history: 16,
+            bent_normals: true,
             ..Default::default()
         },
         AoOptions {
