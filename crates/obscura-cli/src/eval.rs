@@ -131,6 +131,12 @@ pub struct EvalArgs {
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
+    /// Also score GTAO's bent normals (its full-resolution single-frame variants, run once
+    /// more with bent normals on, untimed) against the ray tracer's: the mean angle to the
+    /// traced bent normal, over all pixels and over occluded ones (traced AO < 0.9), beside
+    /// the surface normal's angle to it (what a renderer without bent normals uses).
+    #[arg(long)]
+    pub bent_normals: bool,
     /// Temporal accumulation: every variant keeps a history (--history) and is scored
     /// after this many frames of a still camera; also reported: the mean absolute
     /// frame-to-frame change after them, and an orbit of as many frames (--orbit-step
@@ -224,6 +230,59 @@ struct Row {
     ms: Option<f64>,
     /// With --frames: the temporal figures.
     temporal: Option<TemporalFigures>,
+    /// With --bent-normals: the bent normals' angles to the traced ones.
+    bent: Option<BentError>,
+}
+
+/// Mean angles (degrees) to the ray-traced bent normal, over the compared pixels and over
+/// the occluded ones (traced AO < [`OCCLUDED`]): of the estimate's bent normal, and of the
+/// surface normal the estimate used.
+#[derive(Clone, Copy, Debug)]
+struct BentError {
+    bent: f32,
+    bent_occluded: f32,
+    normal: f32,
+    normal_occluded: f32,
+}
+
+/// Traced AO below which a pixel counts as occluded for [`BentError`].
+const OCCLUDED: f32 = 0.9;
+
+/// [`BentError`] of `bent` (rgba per pixel) and the prepared normals (`vec4(d, n)` per
+/// pixel) against `truth`'s bent normals, where `mask` holds and both are defined.
+fn bent_error(
+    bent: &[f32],
+    prepared: &[f32],
+    truth: &obscura_eval::ReferenceAo,
+    mask: &[bool],
+) -> BentError {
+    use glam::Vec3;
+    let angle = |a: Vec3, b: Vec3| a.dot(b).clamp(-1.0, 1.0).acos().to_degrees() as f64;
+    // Sums of (bent angle, normal angle, count), all pixels and occluded ones.
+    let (mut all, mut occ) = ([0.0f64; 3], [0.0f64; 3]);
+    for (i, m) in mask.iter().enumerate() {
+        let t = Vec3::from(truth.bent[i]);
+        let g = Vec3::from_slice(&bent[4 * i..4 * i + 3]);
+        let n = Vec3::from_slice(&prepared[4 * i + 1..4 * i + 4]);
+        if !m || t.length_squared() < 0.25 || g.length_squared() < 0.25 {
+            continue;
+        }
+        let (b, nn) = (angle(g, t), angle(n.normalize_or_zero(), t));
+        for (acc, on) in [(&mut all, true), (&mut occ, truth.ao[i] < OCCLUDED)] {
+            if on {
+                acc[0] += b;
+                acc[1] += nn;
+                acc[2] += 1.0;
+            }
+        }
+    }
+    let mean = |acc: [f64; 3], k: usize| (acc[k] / acc[2].max(1.0)) as f32;
+    BentError {
+        bent: mean(all, 0),
+        bent_occluded: mean(occ, 0),
+        normal: mean(all, 1),
+        normal_occluded: mean(occ, 1),
+    }
 }
 
 /// How temporal accumulation behaves on one view (`eval --frames N`).
@@ -844,6 +903,35 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 Some(o),
             ));
         }
+        // Bent normals of GTAO's full-resolution single-frame variants (untimed; unfused,
+        // which is the same work, so that the prepared normals can be read back).
+        let mut bent_of = std::collections::HashMap::new();
+        for (label, o) in variants.iter().filter(|(_, o)| {
+            a.bent_normals
+                && o.estimator.has_bent_normals()
+                && o.resolution == obscura::Resolution::Full
+                && o.history == 0
+        }) {
+            let mut b = Ao::new(
+                &ctx.device,
+                AoOptions {
+                    bent_normals: true,
+                    fused: false,
+                    ..*o
+                },
+            )?;
+            ctx.run(|enc| b.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let bent = ctx.read_f32(b.bent_normals().context("bent normals missing")?)?;
+            let prepared = b.prepared_view().context("prepared buffer missing")?;
+            let prepared = ctx.read_f32(prepared.texture())?;
+            let e = bent_error(&bent, &prepared, &reference, &mask);
+            eprintln!(
+                "  {label}: bent normals {:.1}° from the traced ones ({:.1}° where occluded), \
+                 the surface normal {:.1}° ({:.1}°)",
+                e.bent, e.bent_occluded, e.normal, e.normal_occluded
+            );
+            bent_of.insert(label.clone(), e);
+        }
         let r = &reference.ao;
         // The full-resolution result of the same estimator, mode and samples, if evaluated.
         let full_of = |o: &AoOptions| {
@@ -881,6 +969,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     .iter()
                     .position(|v| &v.0 == name)
                     .and_then(|i| temporal[i]),
+                bent: bent_of.get(name).copied(),
             });
         }
         for row in rows.iter().filter(|x| x.view == job.name) {
@@ -945,10 +1034,11 @@ pub fn run(a: &EvalArgs) -> Result<()> {
 
     let means = variant_means(&rows);
     let table = format!(
-        "{}{}{}{}{}",
+        "{}{}{}{}{}{}",
         mixed_summary(&rows),
         frontier_table(&means),
         sampling_bias_table(&rows),
+        bent_table(&rows),
         summary_table(&rows),
         temporal_table(&rows, a)
     );
@@ -1192,6 +1282,37 @@ fn sampling_bias_table(rows: &[Row]) -> String {
     s
 }
 
+fn bent_table(rows: &[Row]) -> String {
+    let mut names: Vec<&str> = Vec::new();
+    for r in rows.iter().filter(|r| r.bent.is_some()) {
+        if !names.contains(&r.variant.as_str()) {
+            names.push(&r.variant);
+        }
+    }
+    if names.is_empty() {
+        return String::new();
+    }
+    let mut s = format!("\n### Bent normals\n\nMean angle to the ray tracer's bent normal (the mean direction of its unoccluded cosine-weighted rays), over the views: of GTAO's bent normals, and of the surface normal it was given or reconstructed (what a renderer uses without bent normals); *occluded*: pixels whose traced AO is below {OCCLUDED}, where the two differ most.\n\n| variant | bent normals | surface normal | bent normals, occluded | surface normal, occluded |\n|---|---|---|---|---|\n");
+    for name in names {
+        let mine: Vec<BentError> = rows
+            .iter()
+            .filter(|r| r.variant == name)
+            .filter_map(|r| r.bent)
+            .collect();
+        let mean = |f: fn(&BentError) -> f32| mine.iter().map(f).sum::<f32>() / mine.len() as f32;
+        let _ = writeln!(
+            s,
+            "| {name} | {:.1}° | {:.1}° | {:.1}° | {:.1}° |",
+            mean(|e| e.bent),
+            mean(|e| e.normal),
+            mean(|e| e.bent_occluded),
+            mean(|e| e.normal_occluded)
+        );
+    }
+    s.push('\n');
+    s
+}
+
 fn summary_table(rows: &[Row]) -> String {
     let mixed = rows.iter().any(|r| r.full_rmse.is_some());
     let mut s = String::from(
@@ -1291,7 +1412,7 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     for (i, r) in rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}}}{}",
+            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
             r.view,
             r.variant,
             r.estimator,
@@ -1313,6 +1434,10 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             r.temporal
                 .and_then(|t| t.disoccluded)
                 .map_or("null".to_string(), |d| format!("{:.5}", d.1)),
+            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.bent)),
+            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.bent_occluded)),
+            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.normal)),
+            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.normal_occluded)),
             if i + 1 == rows.len() { "" } else { "," }
         );
     }
@@ -1567,6 +1692,7 @@ mod tests {
             full_rmse,
             ms: Some(ms),
             temporal: None,
+            bent: None,
         }
     }
 

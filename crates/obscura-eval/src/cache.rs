@@ -6,8 +6,8 @@ use obscura_scene::{Camera, CameraProjection};
 use std::path::{Path, PathBuf};
 
 /// Bumped whenever the tracer's output for the same inputs changes.
-const FORMAT: u32 = 1;
-const MAGIC: &[u8; 8] = b"OBSCREF1";
+const FORMAT: u32 = 2;
+const MAGIC: &[u8; 8] = b"OBSCREF2";
 
 /// FNV-1a, 64-bit.
 #[derive(Clone, Copy, Debug)]
@@ -73,7 +73,7 @@ pub fn path(dir: &Path, key: u64) -> PathBuf {
 pub fn load(path: &Path, w: u32, h: u32) -> Option<ReferenceAo> {
     let b = std::fs::read(path).ok()?;
     let n = (w * h) as usize;
-    if b.len() != 8 + 12 + 8 * n || &b[..8] != MAGIC {
+    if b.len() != 8 + 12 + 20 * n || &b[..8] != MAGIC {
         return None;
     }
     let word = |i: usize| [b[i], b[i + 1], b[i + 2], b[i + 3]];
@@ -89,7 +89,11 @@ pub fn load(path: &Path, w: u32, h: u32) -> Option<ReferenceAo> {
         height: h,
         mean_std_error: f32::from_le_bytes(word(16)),
         ao: floats[..n].to_vec(),
-        depth: floats[n..].to_vec(),
+        depth: floats[n..2 * n].to_vec(),
+        bent: floats[2 * n..]
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect(),
     })
 }
 
@@ -98,12 +102,12 @@ pub fn store(path: &Path, r: &ReferenceAo) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let mut b = Vec::with_capacity(20 + 8 * r.ao.len());
+    let mut b = Vec::with_capacity(20 + 20 * r.ao.len());
     b.extend_from_slice(MAGIC);
     b.extend_from_slice(&r.width.to_le_bytes());
     b.extend_from_slice(&r.height.to_le_bytes());
     b.extend_from_slice(&r.mean_std_error.to_le_bytes());
-    for v in r.ao.iter().chain(&r.depth) {
+    for v in r.ao.iter().chain(&r.depth).chain(r.bent.iter().flatten()) {
         b.extend_from_slice(&v.to_le_bytes());
     }
     let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
@@ -122,6 +126,7 @@ mod tests {
             height: 2,
             ao: vec![1.0, 0.5, 0.25, 0.0, 0.75, 1.0],
             depth: vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+            bent: (0..6).map(|i| [i as f32, 0.5, -0.25]).collect(),
             mean_std_error: 0.01,
         };
         let dir = std::env::temp_dir().join(format!("obscura-cache-test-{}", std::process::id()));
@@ -129,8 +134,8 @@ mod tests {
         store(&p, &r).unwrap();
         let back = load(&p, 3, 2).unwrap();
         assert_eq!(
-            (back.ao, back.depth, back.mean_std_error),
-            (r.ao, r.depth, r.mean_std_error)
+            (back.ao, back.depth, back.bent, back.mean_std_error),
+            (r.ao, r.depth, r.bent, r.mean_std_error)
         );
         assert!(load(&p, 2, 3).is_none(), "size mismatch must not load");
         std::fs::write(&p, b"garbage").unwrap();

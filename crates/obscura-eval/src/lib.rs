@@ -10,7 +10,9 @@ pub mod trace;
 pub mod views;
 
 pub use bvh::Bvh;
-pub use trace::{ao_at, trace_view, Falloff, PixelSampling, ReferenceAo, TraceSettings};
+pub use trace::{
+    ao_at, ao_bent_at, trace_view, Falloff, PixelSampling, ReferenceAo, TraceSettings,
+};
 
 /// The triangles of a mesh, for [`Bvh::new`].
 pub fn triangles(mesh: &obscura_scene::Mesh) -> Vec<bvh::Tri> {

@@ -61,6 +61,10 @@ pub struct ReferenceAo {
     pub ao: Vec<f32>,
     /// Linear view depth per pixel, 0 on sky.
     pub depth: Vec<f32>,
+    /// Bent normal per pixel: the mean direction of the unoccluded rays (cosine-weighted
+    /// rays, so the cosine-weighted mean of the unoccluded directions), view space, unit;
+    /// zero on sky and where every ray is occluded.
+    pub bent: Vec<[f32; 3]>,
     /// Mean over surface pixels of each pixel's standard error.
     pub mean_std_error: f32,
 }
@@ -93,6 +97,13 @@ fn hash(mut x: u32) -> u32 {
 /// AO at surface point `p` with unit normal `n`, and the standard error of the estimate.
 /// `seed` decorrelates the sample rotation between pixels.
 pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32, f32) {
+    let (ao, se, _) = ao_bent_at(bvh, p, n, s, seed);
+    (ao, se)
+}
+
+/// [`ao_at`] and the sum of the ray directions weighted by their visibility (1 − their
+/// occlusion), whose direction is the bent normal (zero when every ray is occluded).
+pub fn ao_bent_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32, f32, Vec3) {
     let (t, b) = basis(n);
     let rot = (
         hash(seed) as f32 / 4294967296.0,
@@ -102,7 +113,7 @@ pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32,
     // at this distance from the origin.
     let origin = p + n * (1e-4 * s.radius + 4.0 * f32::EPSILON * p.abs().max_element());
     let inv_r2 = 1.0 / (s.radius * s.radius);
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let (mut sum, mut sum2, mut bent) = (0.0f64, 0.0f64, Vec3::ZERO);
     for i in 0..s.rays {
         let u1 = ((i as f32 + 0.5) / s.rays as f32 + rot.0).fract();
         let u2 = (radical_inverse(i) + rot.1).fract();
@@ -118,12 +129,16 @@ pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32,
         } as f64;
         sum += occ;
         sum2 += occ * occ;
+        bent += dir * (1.0 - occ as f32);
     }
     let n_rays = s.rays as f64;
     let mean = sum / n_rays;
     let var = (sum2 / n_rays - mean * mean).max(0.0);
-    ((1.0 - mean) as f32, (var / n_rays).sqrt() as f32)
+    ((1.0 - mean) as f32, (var / n_rays).sqrt() as f32, bent)
 }
+
+/// One traced row: AO, depth, standard error (−1 on sky) and bent normal per pixel.
+type Row = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<[f32; 3]>);
 
 /// Traces AO for every pixel of `camera`'s view at `width` × `height`, with primary rays
 /// through pixel centres (the rasterizer's sampling points) or the 4× MSAA sample
@@ -144,12 +159,19 @@ pub fn trace_view(
     let world_to_view = camera.view_matrix();
     let ortho = matches!(camera.projection, CameraProjection::Orthographic { .. });
     let done = AtomicUsize::new(0);
-    let rows: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> = (0..height)
+    let rows: Vec<Row> = (0..height)
         .into_par_iter()
         .map(|y| {
             let mut ao = vec![1.0; width as usize];
             let mut depth = vec![0.0; width as usize];
             let mut err = vec![-1.0; width as usize];
+            let mut bent = vec![[0.0; 3]; width as usize];
+            let to_view = |b: Vec3| {
+                world_to_view
+                    .transform_vector3(b)
+                    .normalize_or_zero()
+                    .to_array()
+            };
             // The surface point, normal and view depth through pixel position `at`.
             let primary = |at: [f32; 2]| {
                 let ndc = [
@@ -189,10 +211,11 @@ pub fn trace_view(
                         let Some((p, n, view_depth)) = primary([cx + 0.5, cy + 0.5]) else {
                             continue;
                         };
-                        let (a, e) = ao_at(bvh, p, n, s, seed);
+                        let (a, e, b) = ao_bent_at(bvh, p, n, s, seed);
                         ao[x as usize] = a;
                         depth[x as usize] = view_depth;
                         err[x as usize] = e;
+                        bent[x as usize] = to_view(b);
                     }
                     PixelSampling::Msaa4 => {
                         let quarter = TraceSettings {
@@ -200,14 +223,16 @@ pub fn trace_view(
                             ..*s
                         };
                         let (mut sum, mut var, mut dsum, mut hits) = (0.0, 0.0, 0.0, 0);
+                        let mut bsum = Vec3::ZERO;
                         for (i, at) in MSAA4_POSITIONS.iter().enumerate() {
                             let Some((p, n, view_depth)) = primary([cx + at[0], cy + at[1]]) else {
                                 sum += 1.0;
                                 continue;
                             };
-                            let (a, e) =
-                                ao_at(bvh, p, n, &quarter, seed.wrapping_mul(4) + i as u32);
+                            let (a, e, b) =
+                                ao_bent_at(bvh, p, n, &quarter, seed.wrapping_mul(4) + i as u32);
                             sum += a;
+                            bsum += b;
                             var += e * e;
                             dsum += view_depth;
                             hits += 1;
@@ -216,13 +241,14 @@ pub fn trace_view(
                             ao[x as usize] = sum / 4.0;
                             depth[x as usize] = dsum / hits as f32;
                             err[x as usize] = var.sqrt() / 4.0;
+                            bent[x as usize] = to_view(bsum);
                         }
                     }
                 }
             }
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(k, height as usize);
-            (ao, depth, err)
+            (ao, depth, err, bent)
         })
         .collect();
     let mut out = ReferenceAo {
@@ -230,12 +256,14 @@ pub fn trace_view(
         height,
         ao: Vec::with_capacity((width * height) as usize),
         depth: Vec::with_capacity((width * height) as usize),
+        bent: Vec::with_capacity((width * height) as usize),
         mean_std_error: 0.0,
     };
     let (mut se, mut n) = (0.0f64, 0usize);
-    for (a, d, e) in rows {
+    for (a, d, e, b) in rows {
         out.ao.extend(a);
         out.depth.extend(d);
+        out.bent.extend(b);
         for v in e.into_iter().filter(|v| *v >= 0.0) {
             se += v as f64;
             n += 1;

@@ -193,3 +193,39 @@ fn msaa_references_sample_the_four_standard_positions() {
     assert!((msaa.depth[at] - 5.0).abs() < 1e-4, "{:?}", msaa.depth);
     assert_eq!(msaa.depth[at + 1], 0.0);
 }
+
+/// The bent normal in the same inner corner (floor y = 0, wall x = 0): the mean of the
+/// unoccluded cosine-weighted directions leans from the floor's normal away from the wall
+/// (+x) by atan(x / y), for a = d/R < 1 (integrals over the unit hemisphere of ω and of
+/// ω·n over the directions that do not reach the wall, −ω.x < a):
+///   y = 2π/3 − (π/2)(2/3 − a + a³/3),   x = (2/3)(1 − a²)^{3/2},
+/// and has no z component. Tolerance: 1° (4096 rays).
+#[test]
+fn bent_normal_in_an_inner_corner_matches_closed_form() {
+    let wall = quad(
+        Vec3::new(0.0, 0.0, -L),
+        Vec3::new(0.0, L, -L),
+        Vec3::new(0.0, L, L),
+        Vec3::new(0.0, 0.0, L),
+    );
+    let bvh = Bvh::new([floor(), wall].concat());
+    let r = 1.5;
+    for a in [0.0005f32, 0.3, 0.7, 1.2] {
+        let (_, _, b) =
+            obscura_eval::ao_bent_at(&bvh, Vec3::new(a * r, 0.0, 0.0), Vec3::Y, &settings(r), 5);
+        let b = b.normalize();
+        let (y, x) = if a < 1.0 {
+            (
+                2.0 * PI / 3.0 - PI / 2.0 * (2.0 / 3.0 - a + a * a * a / 3.0),
+                2.0 / 3.0 * (1.0 - a * a).powf(1.5),
+            )
+        } else {
+            (1.0, 0.0)
+        };
+        let (got, want) = (b.x.atan2(b.y).to_degrees(), x.atan2(y).to_degrees());
+        assert!(
+            (got - want).abs() < 1.0 && b.z.abs() < 0.02,
+            "a={a}: {got}° vs {want}°, {b}"
+        );
+    }
+}
