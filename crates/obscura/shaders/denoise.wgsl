@@ -26,8 +26,8 @@
 // At the image border the taps are mirrored, not dropped: a one-sided kernel there would
 // extrapolate the slope across the border from noise alone (the edge pixel has no taps
 // beyond it, unlike a crease, where the other side exists but is another surface).
-// Sky taps are skipped; sky pixels pass through. Bent normals, when on, take the same
-// weights (denoise_bent.wgsl). CPU mirror: src/reference.rs, `denoise`.
+// Sky taps are skipped; sky pixels pass through. Bent normals, when on, get the same fit
+// of their offsets from the taps' normals (denoise_bent.wgsl). CPU mirror: src/reference.rs, `denoise`.
 
 override PERIOD: u32 = 2u;
 
@@ -84,7 +84,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 sum_d += w * d;
                 sum_vd += w * v * d;
                 sum_dd += w * vec3<f32>(d.x * d.x, d.y * d.y, d.x * d.y);
-                bent_tap(q, w);
+                bent_tap(q, w, s.yzw, d);
             }
         }
         // Centred moments: mean offset m, covariance of offsets (xx, yy, xy), covariance of
@@ -97,7 +97,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let c = sum_vd / total - m * mean;
         let g = vec2<f32>(yy * c.x - xy * c.y, xx * c.y - xy * c.x) / (xx * yy - xy * xy);
         ao = clamp(mean - dot(g, m), 0.0, 1.0);
+        bent_fit(total, m, vec3<f32>(xx, yy, xy));
     }
     textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
-    bent_store(p, centre.x > 0.0);
+    bent_store(p, centre.yzw);
 }

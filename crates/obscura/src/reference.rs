@@ -1148,20 +1148,43 @@ pub fn denoise(f: &FrameUniforms, prepared: &[Vec4], ao: &[f32], period: u32) ->
     out
 }
 
-/// The denoiser's bent normals (shaders/denoise_bent.wgsl): each pixel the renormalised
-/// mean of its taps' `bent` with the AO's weights; sky pixels pass through.
+/// The denoiser's bent normals (shaders/denoise_bent.wgsl): each pixel its own normal plus
+/// the plane fit, with the AO's weights, of its taps' offsets of `bent` from their normals
+/// (per component), renormalised; sky pixels pass through.
 pub fn denoise_bent(f: &FrameUniforms, prepared: &[Vec4], bent: &[Vec3], period: u32) -> Vec<Vec3> {
+    use crate::shader::DENOISE_RIDGE;
     let w = f.size[0] as i32;
+    let normal = |v: Vec4| Vec3::new(v.y, v.z, v.w);
     denoise_taps(f, prepared, period)
         .enumerate()
         .map(|(i, taps)| {
-            let sum: Vec3 = taps
-                .into_iter()
-                .flatten()
-                .map(|(q, _, wgt)| wgt * bent[(q[1] * w + q[0]) as usize])
-                .sum();
-            if prepared[i].x > 0.0 && sum.length_squared() > 1e-12 {
-                sum.normalize()
+            let Some(taps) = taps else {
+                return bent[i];
+            };
+            // Weighted sums of 1, d, d⊗d, the offset o, o·dx and o·dy.
+            let (mut total, mut sum_d, mut sum_dd) = (0.0f32, glam::Vec2::ZERO, Vec3::ZERO);
+            let (mut sum, mut sum_dx, mut sum_dy) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+            for (q, d, wgt) in taps {
+                let j = (q[1] * w + q[0]) as usize;
+                let o = bent[j] - normal(prepared[j]);
+                total += wgt;
+                sum_d += wgt * d;
+                sum_dd += wgt * Vec3::new(d.x * d.x, d.y * d.y, d.x * d.y);
+                sum += wgt * o;
+                sum_dx += wgt * d.x * o;
+                sum_dy += wgt * d.y * o;
+            }
+            let m = sum_d / total;
+            let xx = sum_dd.x / total - m.x * m.x + DENOISE_RIDGE;
+            let yy = sum_dd.y / total - m.y * m.y + DENOISE_RIDGE;
+            let xy = sum_dd.z / total - m.x * m.y;
+            let mean = sum / total;
+            let (cx, cy) = (sum_dx / total - m.x * mean, sum_dy / total - m.y * mean);
+            let det = xx * yy - xy * xy;
+            let (gx, gy) = ((yy * cx - xy * cy) / det, (xx * cy - xy * cx) / det);
+            let fitted = normal(prepared[i]) + mean - gx * m.x - gy * m.y;
+            if fitted.length_squared() > 1e-12 {
+                fitted.normalize()
             } else {
                 bent[i]
             }
@@ -1583,6 +1606,41 @@ mod tests {
             let out = denoise(&f, &prepared, &ao, 2);
             for ((x, y), got) in pixels().zip(out) {
                 assert!((got - 0.5).abs() <= 1e-4, "{w}×{h}, pixel {x},{y}: {got}");
+            }
+        }
+    }
+
+    /// The denoiser filters the bent normal's offset from the surface normal: on a curved
+    /// surface with nothing occluding it (bent normal = normal at every pixel) it returns
+    /// each pixel's own normal (within 1e-5), in both kernels; a mean of the directions
+    /// leans each toward its neighbours and fails this. And a uniform tilt survives.
+    #[test]
+    fn denoised_bent_normals_keep_a_curved_surface() {
+        use glam::Vec3;
+        let (w, h) = (12u32, 9u32);
+        let f = ortho_frame(w, h);
+        let normal = |x: u32, y: u32| {
+            Vec3::new(0.15 * (x as f32 - 5.5), 0.15 * (y as f32 - 4.0), 1.0).normalize()
+        };
+        let pixels = || (0..h).flat_map(move |y| (0..w).map(move |x| (x, y)));
+        let prepared: Vec<Vec4> = pixels()
+            .map(|(x, y)| {
+                let n = normal(x, y);
+                Vec4::new(10.0, n.x, n.y, n.z)
+            })
+            .collect();
+        let bent: Vec<Vec3> = pixels().map(|(x, y)| normal(x, y)).collect();
+        let tilt = Vec3::new(0.0, 0.2, 0.0);
+        let tilted: Vec<Vec3> = bent.iter().map(|b| *b + tilt).collect();
+        for period in [2, 4] {
+            let out = super::denoise_bent(&f, &prepared, &bent, period);
+            for (i, (got, want)) in out.iter().zip(&bent).enumerate() {
+                assert!((*got - *want).abs().max_element() < 1e-5, "{period}: {i}");
+            }
+            let out = super::denoise_bent(&f, &prepared, &tilted, period);
+            for (i, (got, n)) in out.iter().zip(&bent).enumerate() {
+                let want = (*n + tilt).normalize();
+                assert!((*got - want).abs().max_element() < 1e-5, "{period}: {i}");
             }
         }
     }
