@@ -337,8 +337,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
     /// Also write GTAO's bent normals (view space, unit, the cosine-weighted mean unoccluded
-    /// direction; at the AO's working resolution): .png (8-bit RGB of xyz * 0.5 + 0.5, black
-    /// on sky), .npy (float32, height × width × 3) or .exr (float32 RGB = xyz).
+    /// direction; full resolution, or the working one with --denoise box|tent): .png (8-bit
+    /// RGB of xyz * 0.5 + 0.5, black on sky), .npy (float32, height × width × 3) or .exr
+    /// (float32 RGB = xyz).
     #[arg(long, value_name = "FILE")]
     pub bent_normals_out: Option<PathBuf>,
     /// Timed AO runs after one warm-up run; the median is reported (single frames).
@@ -580,7 +581,8 @@ pub(crate) fn record_timed(
     Ok(ctx.read_f32(out)?)
 }
 
-/// The last frame's bent normals and their size (the AO's working resolution).
+/// The last frame's bent normals and their size (full, or the AO's working resolution after
+/// the box or tent filter).
 pub(crate) fn read_bent_normals(ctx: &GpuContext, ao: &Ao) -> Result<(Vec<[f32; 3]>, u32, u32)> {
     let t = ao
         .bent_normals()

@@ -2,8 +2,10 @@
 // p reads the 2x2 low-resolution texels around it (the bilinear footprint): low texel x has
 // its centre at full-resolution x * F + F / 2 (F = UP_FACTOR), the mapping the AO pass used
 // (FrameUniforms::at_factor), so odd sizes neither shift nor crop. Composed with an
-// upsample_*.wgsl defining `upsample(pos, centre, fp)` (centre: this pixel's full-resolution
-// input, .x linear depth and, for the bilateral upsampler, .yzw its normal). Sky pixels get 1.
+// upsample_*.wgsl defining `upsample_weights(pos, centre, fp)`, the weights of the four
+// footprint texels (summing to 1; centre: this pixel's full-resolution input, .x linear
+// depth and, for the bilateral upsampler, .yzw its normal), and an upsample_bent*.wgsl that
+// takes bent normals through with the same weights. Sky pixels get 1.
 // - One invocation per low texel t writes its F x F full-resolution pixels: their
 //   footprints all lie in the 3 x 3 texels around t, each read once (2.25 texel reads per
 //   pixel at half resolution instead of 4; 0.56 at quarter).
@@ -69,12 +71,27 @@ fn quadrant(t: vec2<i32>, c: vec2<u32>, a: Texel, b: Texel, e: Texel, f: Texel) 
             let pi = vec2<i32>(p);
             let centre = textureLoad(full_in, pi, 0);
             var ao = 1.0;
+            var wts = vec4<f32>(0.0);
             if centre.x > 0.0 {
-                ao = upsample(view_position(vec2<f32>(pi) + 0.5, centre.x), centre, fp);
+                wts = upsample_weights(view_position(vec2<f32>(pi) + 0.5, centre.x), centre, fp);
+                ao = dot(wts, fp.ao);
             }
             textureStore(ao_out, pi, vec4<f32>(ao, 0.0, 0.0, 0.0));
+            upsample_bent(pi, wts, centre, fp);
         }
     }
+}
+
+// All the weight on the footprint texel whose depth is closest to `d` (nearest-depth
+// upsampling, and the fallback of the others); the bilinear weights if all four are sky.
+fn nearest_weights(fp: Footprint, d: f32) -> vec4<f32> {
+    let i = nearest_depth(fp, d);
+    if i < 0 {
+        return fp.w;
+    }
+    var w = vec4<f32>(0.0);
+    w[i] = 1.0;
+    return w;
 }
 
 // The footprint texel whose depth is closest to `d` (sky texels never win); -1 if all are sky.

@@ -8,11 +8,10 @@
 // texels of its own orientation (mean RMSE against ray-traced AO at half resolution 0.079
 // with it, 0.089 without, docs/mixed-resolution.md). Needs the full-resolution normal
 // (`centre.yzw`). Where every weight vanishes (no texel on this surface), nearest-depth.
-fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
+fn upsample_weights(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> vec4<f32> {
     let d = centre.x;
     let n = centre.yzw;
-    var sum = 0.0;
-    var total = 0.0;
+    var w = vec4<f32>(0.0);
     for (var i = 0u; i < 4u; i++) {
         if fp.low[i].x <= 0.0 {
             continue;
@@ -21,16 +20,11 @@ fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
         let c = max(dot(fp.low[i].yzw, n), 0.0);
         let c2 = c * c;
         let c4 = c2 * c2;
-        let w = fp.w[i] * exp(-z * z) * c4 * c4;
-        sum += w * fp.ao[i];
-        total += w;
+        w[i] = fp.w[i] * exp(-z * z) * c4 * c4;
     }
+    let total = w.x + w.y + w.z + w.w;
     if total > 1e-4 {
-        return sum / total;
+        return w / total;
     }
-    let i = nearest_depth(fp, d);
-    if i < 0 {
-        return dot(fp.w, fp.ao);
-    }
-    return fp.ao[i];
+    return nearest_weights(fp, d);
 }

@@ -1,4 +1,4 @@
 // Bilinear upsampling: the baseline; blends across depth edges (and with sky).
-fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
-    return dot(fp.w, fp.ao);
+fn upsample_weights(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> vec4<f32> {
+    return fp.w;
 }

@@ -16,7 +16,7 @@ fn plane_distance(fp: Footprint, i: u32, pos: vec3<f32>) -> f32 {
     return abs(dot(pos - fp.pos[i], fp.low[i].yzw));
 }
 
-fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
+fn upsample_weights(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> vec4<f32> {
     let d = centre.x;
     var mean = vec3<f32>(0.0);
     var surface = true;
@@ -45,11 +45,7 @@ fn upsample(pos: vec3<f32>, centre: vec4<f32>, fp: Footprint) -> f32 {
         }
     }
     if surface {
-        return dot(fp.w, fp.ao);
+        return fp.w;
     }
-    let i = nearest_depth(fp, d);
-    if i < 0 {
-        return dot(fp.w, fp.ao);
-    }
-    return fp.ao[i];
+    return nearest_weights(fp, d);
 }

@@ -250,11 +250,25 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         ));
     }
     let ao_target = if direct { Res::Output } else { Res::AoWork };
-    // Bent normals: written by the AO pass, then through the temporal pass and the spatial
-    // denoiser if any.
+    // Bent normals: written by the AO pass, then through the temporal pass, the spatial
+    // denoiser and the upsampler where they run; each of these writes the other work-size
+    // texture (BentRaw, BentTmp), the last one Bent.
     let bent = o.bent_normals;
     let filter_bent = bent && o.denoise == Denoise::Spatial;
     let accumulate_bent = bent && o.history > 0;
+    let upsample_bent = bent && bent_upsampled(o);
+    let bent_other = |r: Res| {
+        if r == Res::BentRaw {
+            Res::BentTmp
+        } else {
+            Res::BentRaw
+        }
+    };
+    let bent_next = |r: Res, more: bool| if more { bent_other(r) } else { Res::Bent };
+    let mut bent_current = bent_next(
+        Res::BentTmp,
+        accumulate_bent || filter_bent || upsample_bent,
+    );
     let pyramid = |mut v: Vec<(u32, Res)>| {
         if o.estimator.uses_pyramid() {
             v.push((3, Res::Pyramid));
@@ -263,8 +277,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             v.push((3, Res::Moments));
         }
         if bent {
-            let raw = filter_bent || accumulate_bent;
-            v.push((4, if raw { Res::BentRaw } else { Res::Bent }));
+            v.push((4, bent_current));
         }
         v
     };
@@ -345,12 +358,14 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             (5, next),
         ];
         if accumulate_bent {
+            let next = bent_next(bent_current, filter_bent || upsample_bent);
             views.extend([
-                (6, Res::BentRaw),
+                (6, bent_current),
                 (7, Res::BentHistoryPrev),
                 (8, Res::BentHistoryNext),
-                (9, if filter_bent { Res::BentTmp } else { Res::Bent }),
+                (9, next),
             ]);
+            bent_current = next;
         }
         steps.push(step(
             Pass::Temporal {
@@ -373,12 +388,9 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             };
             let mut views = vec![(1, src), (2, current), (3, next)];
             if filter_bent {
-                let from = if accumulate_bent {
-                    Res::BentTmp
-                } else {
-                    Res::BentRaw
-                };
-                views.extend([(4, from), (5, Res::Bent)]);
+                let next = bent_next(bent_current, upsample_bent);
+                views.extend([(4, bent_current), (5, next)]);
+                bent_current = next;
             }
             steps.push(step(
                 Pass::Denoise {
@@ -415,10 +427,15 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         if classified {
             views.push((5, Res::Pyramid));
         }
+        if upsample_bent {
+            views.extend([(6, bent_current), (7, Res::Bent)]);
+        }
         // One invocation per texel of the AO it reads (each writes its block of pixels).
         steps.push(step(
             Pass::Upsample {
                 upsampler: o.upsample,
+                bent: upsample_bent,
+                full_normals: full_depth == Res::Prepared,
             },
             views,
             FrameAt::Full,
@@ -426,6 +443,12 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         ));
     }
     (prepare_store, steps)
+}
+
+/// Whether the bent normals are upsampled to full resolution (below full resolution, unless
+/// the box or tent filter downsampled the AO further: they stay at the working resolution).
+fn bent_upsampled(o: &AoOptions) -> bool {
+    o.resolution.factor() > 1 && !o.denoise.downsamples()
 }
 
 /// GPU objects an [`Ao`] has created since [`Ao::new`], by kind (see
@@ -723,7 +746,9 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, PREPARED_FORMAT, D2),
         ],
-        Pass::Upsample { upsampler } => {
+        Pass::Upsample {
+            upsampler, bent, ..
+        } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, D2),
                 texture_entry(2, UNFILTERED, D2),
@@ -732,6 +757,12 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             ];
             if upsampler == Upsampler::Classified {
                 v.push(texture_entry(5, UNFILTERED, D2));
+            }
+            if bent {
+                v.extend([
+                    texture_entry(6, UNFILTERED, D2),
+                    storage_entry(7, BENT_FORMAT, D2),
+                ]);
             }
             v
         }
@@ -1263,7 +1294,14 @@ impl Ao {
                     Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
                     Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
                     Res::History(_) => ("obscura ao history", work, 1, HISTORY_FORMAT),
-                    Res::Bent => ("obscura bent normals", work, 1, BENT_FORMAT),
+                    Res::Bent => {
+                        let dims = if bent_upsampled(&self.options) {
+                            at(1)
+                        } else {
+                            work
+                        };
+                        ("obscura bent normals", dims, 1, BENT_FORMAT)
+                    }
                     Res::BentRaw => ("obscura bent normals raw", work, 1, BENT_FORMAT),
                     Res::BentTmp => ("obscura bent normals accumulated", work, 1, BENT_FORMAT),
                     Res::BentHistory(_) => ("obscura bent normal history", work, 1, BENT_FORMAT),
@@ -1775,9 +1813,10 @@ impl Ao {
     }
 
     /// The bent normals of the last frame ([`AoOptions::bent_normals`]), after the temporal
-    /// pass and the denoiser where they run: `Rgba32Float` at
-    /// the working resolution, `vec4(n, 0)` with n the unit bent normal in view space
-    /// (+z toward the camera, as the prepared normals), zero on sky.
+    /// pass, the denoiser and the upsampler where they run: `Rgba32Float` at full
+    /// resolution (at the working resolution after the box or tent filter), `vec4(n, 0)`
+    /// with n the unit bent normal in view space (+z toward the camera, as the prepared
+    /// normals), zero on sky.
     pub fn bent_normals(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Bent))
     }

@@ -993,6 +993,66 @@ pub fn upsample(
     low_prepared: &[Vec4],
     pyramid: &[PyramidLevel],
 ) -> Vec<f32> {
+    upsample_weights(upsampler, f, prepared, low_size, low_prepared, pyramid)
+        .into_iter()
+        .map(|fw| fw.map_or(1.0, |(t, w)| (0..4).map(|i| w[i] * low_ao[t[i]]).sum()))
+        .collect()
+}
+
+/// Bent normals through the upsampler (shaders/upsample_bent.wgsl): with [`upsample`]'s
+/// weights, this pixel's normal plus the low texels' offsets of `low_bent` from their
+/// normals when `full_normals` (else the bent normals themselves), renormalised; zero on
+/// sky.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the upsampler's inputs, spelled out"
+)]
+pub fn upsample_bent(
+    upsampler: crate::Upsampler,
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    low_size: [u32; 2],
+    low_bent: &[Vec3],
+    low_prepared: &[Vec4],
+    pyramid: &[PyramidLevel],
+    full_normals: bool,
+) -> Vec<Vec3> {
+    let normal = |v: Vec4| Vec3::new(v.y, v.z, v.w);
+    upsample_weights(upsampler, f, prepared, low_size, low_prepared, pyramid)
+        .into_iter()
+        .zip(prepared)
+        .map(|(fw, c)| {
+            let Some((t, w)) = fw else {
+                return Vec3::ZERO;
+            };
+            let mut sum = if full_normals { normal(*c) } else { Vec3::ZERO };
+            for i in 0..4 {
+                let off = if full_normals {
+                    normal(low_prepared[t[i]])
+                } else {
+                    Vec3::ZERO
+                };
+                sum += w[i] * (low_bent[t[i]] - off);
+            }
+            if sum.length_squared() > 1e-12 {
+                sum.normalize()
+            } else {
+                Vec3::ZERO
+            }
+        })
+        .collect()
+}
+
+/// The upsampler's weights of each full-resolution pixel: its four footprint texels (as
+/// indices into the low-resolution buffers) and their weights, summing to 1; `None` on sky.
+fn upsample_weights(
+    upsampler: crate::Upsampler,
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    low_size: [u32; 2],
+    low_prepared: &[Vec4],
+    pyramid: &[PyramidLevel],
+) -> Vec<Option<([usize; 4], [f32; 4])>> {
     use crate::shader::DEPTH_RANGE_TOLERANCE;
     use crate::Upsampler as U;
     let fac = f.up_factor as f32;
@@ -1003,7 +1063,7 @@ pub fn upsample(
             let c = prepared[(y * w + x) as usize];
             let d = c.x;
             if d <= 0.0 {
-                out.push(1.0);
+                out.push(None);
                 continue;
             }
             let n = Vec3::new(c.y, c.z, c.w);
@@ -1024,7 +1084,6 @@ pub fn upsample(
                 ]
             });
             let at = |q: [i32; 2]| (q[1] * low_size[0] as i32 + q[0]) as usize;
-            let ao: [f32; 4] = texel.map(|q| low_ao[at(q)]);
             let low: [Vec4; 4] = texel.map(|q| low_prepared[at(q)]);
             let lpos: [Vec3; 4] = std::array::from_fn(|i| {
                 let q = texel[i];
@@ -1034,7 +1093,6 @@ pub fn upsample(
                 )
             });
             let ln = |i: usize| Vec3::new(low[i].y, low[i].z, low[i].w);
-            let bilinear = (0..4).map(|i| wts[i] * ao[i]).sum::<f32>();
             let nearest = || {
                 let mut best: Option<usize> = None;
                 for i in 0..4 {
@@ -1044,12 +1102,12 @@ pub fn upsample(
                         best = Some(i);
                     }
                 }
-                best.map_or(bilinear, |i| ao[i])
+                best.map_or(wts, |i| std::array::from_fn(|k| (k == i) as u32 as f32))
             };
             // This pixel's distance from texel i's tangent plane.
             let plane = |i: usize| (pos - lpos[i]).dot(ln(i)).abs();
-            out.push(match upsampler {
-                U::Bilinear => bilinear,
+            let weights = match upsampler {
+                U::Bilinear => wts,
                 U::NearestDepth => nearest(),
                 U::Classified => {
                     // A footprint of one pixel (factor 1, tests only) has no depth range.
@@ -1082,30 +1140,30 @@ pub fn upsample(
                         surface = false;
                     }
                     if surface {
-                        bilinear
+                        wts
                     } else {
                         nearest()
                     }
                 }
                 U::Bilateral => {
-                    let (mut sum, mut total) = (0.0, 0.0);
-                    for i in 0..4 {
+                    let mut wb = [0.0f32; 4];
+                    for (i, wi) in wb.iter_mut().enumerate() {
                         if low[i].x <= 0.0 {
                             continue;
                         }
                         let z = (lpos[i] - pos).dot(n).abs() / f.plane_tolerance(d);
                         let cs = ln(i).dot(n).max(0.0);
-                        let wgt = wts[i] * (-z * z).exp() * cs.powi(8);
-                        sum += wgt * ao[i];
-                        total += wgt;
+                        *wi = wts[i] * (-z * z).exp() * cs.powi(8);
                     }
+                    let total: f32 = wb.iter().sum();
                     if total > 1e-4 {
-                        sum / total
+                        wb.map(|v| v / total)
                     } else {
                         nearest()
                     }
                 }
-            });
+            };
+            out.push(Some((texel.map(at), weights)));
         }
     }
     out

@@ -421,10 +421,10 @@ pub struct AoOptions {
     /// Bent normals beside the AO ([`crate::Ao::bent_normals`]): per pixel the unit,
     /// view-space, cosine-weighted mean of the unoccluded directions (Jimenez et al. 2016,
     /// sec. 5), integrated from the same horizons as the AO, for diffuse environment
-    /// lighting and specular occlusion. At the AO's working resolution (not upsampled);
-    /// through the temporal pass and the spatial denoiser with the AO's texels and weights,
-    /// not through the box/tent filters. GTAO only ([`Estimator::has_bent_normals`]).
-    /// Default `false`.
+    /// lighting and specular occlusion. Through the temporal pass, the spatial denoiser and
+    /// the upsampler with the AO's texels and weights, so at full resolution; not through
+    /// the box/tent filters (with them, at the working resolution). GTAO only
+    /// ([`Estimator::has_bent_normals`]). Default `false`.
     pub bent_normals: bool,
 }
 

@@ -214,8 +214,13 @@ pub enum Pass {
     Moments { source: PyramidSource },
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
-    /// Low-resolution AO → full resolution.
-    Upsample { upsampler: Upsampler },
+    /// Low-resolution AO → full resolution; `bent`: bent normals too, `full_normals`: the
+    /// full-resolution input holds normals (see shaders/upsample_bent.wgsl).
+    Upsample {
+        upsampler: Upsampler,
+        bent: bool,
+        full_normals: bool,
+    },
     /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
     /// layers (fused deinterleaved modes); `bent`: bent normals filtered too.
     Denoise { layers: bool, bent: bool },
@@ -278,7 +283,15 @@ impl Pass {
         }
         v.push(Pass::PyramidLevels);
         v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
-        v.extend(Upsampler::ALL.map(|upsampler| Pass::Upsample { upsampler }));
+        for upsampler in Upsampler::ALL {
+            for (bent, full_normals) in [(false, true), (true, true), (true, false)] {
+                v.push(Pass::Upsample {
+                    upsampler,
+                    bent,
+                    full_normals,
+                });
+            }
+        }
         for b in [false, true] {
             v.extend([
                 Pass::Denoise {
@@ -346,12 +359,19 @@ impl Pass {
                 DepthDownsample::Checkerboard => "downsample_checkerboard",
                 DepthDownsample::Representative => "downsample_representative",
             },
-            Pass::Upsample { upsampler } => match upsampler {
-                Upsampler::Bilinear => "upsample_bilinear",
-                Upsampler::NearestDepth => "upsample_nearest_depth",
-                Upsampler::Classified => "upsample_classified",
-                Upsampler::Bilateral => "upsample_bilateral",
-            },
+            Pass::Upsample {
+                upsampler, bent, ..
+            } => {
+                let names = match upsampler {
+                    Upsampler::Bilinear => ["upsample_bilinear", "upsample_bilinear_bent"],
+                    Upsampler::NearestDepth => {
+                        ["upsample_nearest_depth", "upsample_nearest_depth_bent"]
+                    }
+                    Upsampler::Classified => ["upsample_classified", "upsample_classified_bent"],
+                    Upsampler::Bilateral => ["upsample_bilateral", "upsample_bilateral_bent"],
+                };
+                names[bent as usize]
+            }
             Pass::Denoise { layers, bent } => [
                 "denoise",
                 "denoise_from_layers",
@@ -490,7 +510,14 @@ impl Pass {
             Pass::Downsample { .. } => {
                 vec![DOWNSAMPLE_RULE, include_str!("../shaders/downsample.wgsl")]
             }
-            Pass::Upsample { upsampler } => vec![
+            Pass::Upsample {
+                upsampler, bent, ..
+            } => vec![
+                if bent {
+                    include_str!("../shaders/upsample_bent.wgsl")
+                } else {
+                    include_str!("../shaders/upsample_bent_none.wgsl")
+                },
                 include_str!("../shaders/upsample.wgsl"),
                 match upsampler {
                     Upsampler::Bilinear => include_str!("../shaders/upsample_bilinear.wgsl"),
@@ -595,7 +622,15 @@ impl Pass {
                 }
             }
             Pass::Pyramid { .. } | Pass::PyramidLevels | Pass::ResolveDepth => vec![],
-            Pass::Upsample { .. } => vec![("UP_FACTOR", options.upsample_factor() as f64)],
+            Pass::Upsample {
+                bent, full_normals, ..
+            } => {
+                let mut v = vec![("UP_FACTOR", options.upsample_factor() as f64)];
+                if bent {
+                    v.push(("FULL_NORMALS", full_normals as u32 as f64));
+                }
+                v
+            }
             Pass::Downsample { rule: r, level } => rule(r, level),
             Pass::Denoise { layers, .. } => {
                 let period = ("PERIOD", options.pattern_period() as f64);

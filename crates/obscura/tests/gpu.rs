@@ -53,8 +53,10 @@ struct Run {
     /// resolution), else empty.
     linear_depth: Vec<f32>,
     ao: Vec<f32>,
-    /// The bent normals at working resolution, when on.
+    /// The bent normals (full resolution, or working below it with box/tent), when on, and
+    /// the AO pass's own when a later pass takes them.
     bent: Vec<Vec3>,
+    bent_raw: Vec<Vec3>,
     frame: obscura::uniforms::FrameUniforms,
 }
 
@@ -114,14 +116,17 @@ fn run_ao(
     let linear_depth = ao
         .linear_depth()
         .map_or(Vec::new(), |t| c.read_f32(t).unwrap());
-    let bent = ao.bent_normals().map_or(Vec::new(), |t| {
-        vec4s(c.read_f32(t).unwrap())
-            .into_iter()
-            .map(|v| v.truncate())
-            .collect()
-    });
+    let vectors = |t: Option<&wgpu::Texture>| -> Vec<Vec3> {
+        t.map_or(Vec::new(), |t| {
+            vec4s(c.read_f32(t).unwrap())
+                .into_iter()
+                .map(|v| v.truncate())
+                .collect()
+        })
+    };
     Run {
-        bent,
+        bent: vectors(ao.bent_normals()),
+        bent_raw: vectors(ao.bent_normals_raw()),
         prepared: vec4s(prepared),
         pyramid,
         moments,
@@ -3005,10 +3010,27 @@ fn msaa_depth_is_resolved_once_per_size_and_float_msaa_is_refused() {
 }
 
 /// Bent normals (AoOptions::bent_normals) against the CPU mirror in every layout (fused and
-/// unfused), with and without the spatial denoiser, at full and half resolution, on the GPU's
-/// own prepared values; and turning them on leaves the AO bit for bit as it was.
-/// Tolerance: 99% of pixels within 2e-3 per component, none beyond 0.5 (a sample on a
-/// pixel boundary may round to the neighbour, as for the AO).
+/// unfused), with and without the spatial denoiser, at full and half resolution (upsampled
+/// by the default bilateral upsampler), on the GPU's own prepared values; and turning them
+/// on leaves the AO bit for bit as it was.
+/// Vectors against their mirror: 99% of pixels within 2e-3 per component, none beyond 0.5 (a
+/// sample on a pixel boundary may round to the neighbour, as for the AO).
+fn assert_close(gpu: &[Vec3], cpu: &[Vec3], what: &str) {
+    assert_eq!(gpu.len(), cpu.len(), "{what}: size");
+    let diffs: Vec<f32> = gpu
+        .iter()
+        .zip(cpu)
+        .map(|(g, c)| (*g - *c).abs().max_element())
+        .collect();
+    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+    let max = diffs.iter().cloned().fold(0.0, f32::max);
+    assert!(
+        close * 100 >= diffs.len() * 99 && max <= 0.5,
+        "{what}: {close}/{} within 2e-3, max {max}",
+        diffs.len()
+    );
+}
+
 #[test]
 fn bent_normals_match_cpu_reference_in_every_layout() {
     let _g = lock();
@@ -3066,27 +3088,38 @@ fn bent_normals_match_cpu_reference_in_every_layout() {
                         r.levels.last().unwrap().clone(),
                     ),
                 };
-                let mut cpu = reference::bent_normals(&work, &options, &prepared);
+                // The AO pass's against the mirror, then each later pass from the GPU's own
+                // input: the denoiser at the working resolution, the upsampler to full.
+                let gpu_raw = if r.bent_raw.is_empty() {
+                    &r.bent
+                } else {
+                    &r.bent_raw
+                };
+                let cpu_raw = reference::bent_normals(&work, &options, &prepared);
+                assert_close(gpu_raw, &cpu_raw, &format!("{options:?}: AO pass"));
+                let mut cpu = gpu_raw.clone();
                 if denoise == Denoise::Spatial {
                     cpu = reference::denoise_bent(&work, &prepared, &cpu, options.pattern_period());
                 }
-                assert_eq!(r.bent.len(), cpu.len(), "{options:?}: size");
-                let diffs: Vec<f32> = r
-                    .bent
-                    .iter()
-                    .zip(&cpu)
-                    .map(|(g, c)| (*g - *c).abs().max_element())
-                    .collect();
-                let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-                let max = diffs.iter().cloned().fold(0.0, f32::max);
-                assert!(
-                    close * 100 >= diffs.len() * 99 && max <= 0.5,
-                    "{options:?}: {close}/{} within 2e-3, max {max}",
-                    diffs.len()
-                );
-                // Unit on surfaces, zero on sky; bent away from the normal in the creases.
+                if resolution != Resolution::Full {
+                    let size = [W, H].map(|s| s.div_ceil(resolution.factor()));
+                    cpu = reference::upsample_bent(
+                        options.upsample,
+                        &r.frame,
+                        &full,
+                        size,
+                        &cpu,
+                        &prepared,
+                        &[],
+                        true,
+                    );
+                }
+                assert_close(&r.bent, &cpu, &format!("{options:?}: result"));
+                // Bent normals at full resolution; unit on surfaces, zero on sky; bent away
+                // from the normal in the creases.
+                let prepared = &full;
                 let mut bent_far = 0;
-                for (b, v) in r.bent.iter().zip(&prepared) {
+                for (b, v) in r.bent.iter().zip(prepared) {
                     if v.x > 0.0 {
                         assert!(
                             (b.length() - 1.0).abs() < 1e-3,
@@ -3107,6 +3140,32 @@ fn bent_normals_match_cpu_reference_in_every_layout() {
                 );
             }
         }
+    }
+    // Every upsampler takes them with its own weights; without full-resolution normals
+    // (fused, other than the bilateral one) it interpolates the directions themselves.
+    let pyramid = reference::pyramid([W, H], &full);
+    for upsampler in Upsampler::ALL {
+        let options = AoOptions {
+            resolution: Resolution::Half,
+            mode: AoMode::Randomized,
+            upsample: upsampler,
+            denoise: Denoise::None,
+            bent_normals: true,
+            ..Default::default()
+        };
+        let r = run(options);
+        let size = [W, H].map(|s| s.div_ceil(2));
+        let cpu = reference::upsample_bent(
+            upsampler,
+            &r.frame,
+            &full,
+            size,
+            &r.bent_raw,
+            r.levels.last().unwrap(),
+            &pyramid,
+            upsampler == Upsampler::Bilateral,
+        );
+        assert_close(&r.bent, &cpu, &format!("{upsampler:?}"));
     }
 }
 
