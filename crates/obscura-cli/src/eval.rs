@@ -131,8 +131,8 @@ pub struct EvalArgs {
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
-    /// Also score GTAO's bent normals (its full-resolution single-frame variants, run once
-    /// more with bent normals on, untimed) against the ray tracer's: the mean angle to the
+    /// Also score GTAO's bent normals (its single-frame variants, run once more with bent
+    /// normals on, untimed; not after box/tent below full resolution) against the ray tracer's: the mean angle to the
     /// traced bent normal, over all pixels and over occluded ones (traced AO < 0.9), beside
     /// the surface normal's angle to it (what a renderer without bent normals uses).
     #[arg(long)]
@@ -903,13 +903,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 Some(o),
             ));
         }
-        // Bent normals of GTAO's full-resolution single-frame variants (untimed; unfused,
-        // which is the same work, so that the prepared normals can be read back).
+        // Bent normals of GTAO's single-frame variants (untimed; unfused, which is the same
+        // work, so that the prepared normals can be read back), where they come out at full
+        // resolution (not after box/tent filtering below it).
         let mut bent_of = std::collections::HashMap::new();
         for (label, o) in variants.iter().filter(|(_, o)| {
             a.bent_normals
                 && o.estimator.has_bent_normals()
-                && o.resolution == obscura::Resolution::Full
+                && (o.resolution == obscura::Resolution::Full || !o.denoise.downsamples())
                 && o.history == 0
         }) {
             let mut b = Ao::new(
