@@ -74,7 +74,8 @@ fn quadrant(t: vec2<i32>, c: vec2<u32>, a: Texel, b: Texel, e: Texel, f: Texel) 
             var wts = vec4<f32>(0.0);
             if centre.x > 0.0 {
                 wts = upsample_weights(view_position(vec2<f32>(pi) + 0.5, centre.x), centre, fp);
-                ao = dot(wts, fp.ao);
+                // The weights sum to 1 up to rounding, which must not leave [0, 1].
+                ao = clamp(dot(wts, fp.ao), 0.0, 1.0);
             }
             textureStore(ao_out, pi, vec4<f32>(ao, 0.0, 0.0, 0.0));
             upsample_bent(pi, wts, centre, fp);

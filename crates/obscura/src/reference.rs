@@ -995,7 +995,14 @@ pub fn upsample(
 ) -> Vec<f32> {
     upsample_weights(upsampler, f, prepared, low_size, low_prepared, pyramid)
         .into_iter()
-        .map(|fw| fw.map_or(1.0, |(t, w)| (0..4).map(|i| w[i] * low_ao[t[i]]).sum()))
+        .map(|fw| {
+            fw.map_or(1.0, |(t, w)| {
+                (0..4)
+                    .map(|i| w[i] * low_ao[t[i]])
+                    .sum::<f32>()
+                    .clamp(0.0, 1.0)
+            })
+        })
         .collect()
 }
 
