@@ -28,9 +28,10 @@ pub enum FalloffArg {
     Quadratic,
 }
 
+/// Which views to work on: a scene file, standard views by name, or all of them.
 #[derive(Debug, Args)]
-pub struct EvalArgs {
-    /// Scene file to evaluate (with --camera, or framed from its bounds).
+pub struct ViewArgs {
+    /// Scene file (with --camera, or framed from its bounds).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["view", "all"])]
     pub scene: Option<PathBuf>,
     /// Camera as EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z[,FOV_Y_DEG] (with --scene).
@@ -46,6 +47,12 @@ pub struct EvalArgs {
     /// The shared scenes folder holding the standard views' files.
     #[arg(long, default_value = "../shared/scenes")]
     pub scenes_dir: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub views: ViewArgs,
     /// Image width in pixels.
     #[arg(long, default_value_t = 640)]
     pub width: u32,
@@ -202,10 +209,10 @@ pub enum NoiseArg {
 }
 
 /// One evaluated view: what to load and how to look at it.
-struct Job {
-    name: String,
-    file: PathBuf,
-    camera: Option<([f32; 3], [f32; 3], f32)>,
+pub(crate) struct Job {
+    pub(crate) name: String,
+    pub(crate) file: PathBuf,
+    pub(crate) camera: Option<([f32; 3], [f32; 3], f32)>,
 }
 
 struct Row {
@@ -389,8 +396,33 @@ fn parse_split(s: &str) -> Result<(u32, u32), String> {
 }
 
 fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
-    if let Some(f) = &a.scene {
-        let camera = match &a.camera {
+    a.views
+        .jobs()?
+        .context("choose what to evaluate: --scene FILE, --view NAME or --all")
+}
+
+impl ViewArgs {
+    /// The views named (`None` if none is given).
+    pub(crate) fn jobs(&self) -> Result<Option<Vec<Job>>> {
+        jobs_for(
+            self.scene.as_deref(),
+            self.camera.as_deref(),
+            self.all,
+            &self.view,
+            &self.scenes_dir,
+        )
+    }
+}
+
+fn jobs_for(
+    scene: Option<&Path>,
+    camera: Option<&str>,
+    all: bool,
+    view: &[String],
+    scenes_dir: &Path,
+) -> Result<Option<Vec<Job>>> {
+    if let Some(f) = scene {
+        let camera = match camera {
             Some(c) => {
                 let v = parse_floats(c, "--camera")?;
                 if !(v.len() == 6 || v.len() == 7) {
@@ -409,19 +441,18 @@ fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
             .and_then(|s| s.to_str())
             .unwrap_or("scene")
             .to_string();
-        return Ok(vec![Job {
+        return Ok(Some(vec![Job {
             name,
-            file: f.clone(),
+            file: f.to_path_buf(),
             camera,
-        }]);
+        }]));
     }
-    let chosen: Vec<&views::StandardView> = if a.all {
+    let chosen: Vec<&views::StandardView> = if all {
         views::STANDARD_VIEWS.iter().collect()
-    } else if a.view.is_empty() {
-        bail!("choose what to evaluate: --scene FILE, --view NAME or --all");
+    } else if view.is_empty() {
+        return Ok(None);
     } else {
-        a.view
-            .iter()
+        view.iter()
             .map(|n| {
                 views::find(n).with_context(|| {
                     let names: Vec<&str> = views::STANDARD_VIEWS.iter().map(|v| v.name).collect();
@@ -433,17 +464,19 @@ fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
             })
             .collect::<Result<_>>()?
     };
-    Ok(chosen
-        .into_iter()
-        .map(|v| Job {
-            name: v.name.to_string(),
-            file: a.scenes_dir.join(v.file),
-            camera: v.camera,
-        })
-        .collect())
+    Ok(Some(
+        chosen
+            .into_iter()
+            .map(|v| Job {
+                name: v.name.to_string(),
+                file: scenes_dir.join(v.file),
+                camera: v.camera,
+            })
+            .collect(),
+    ))
 }
 
-fn camera_for(job: &Job, mesh: &Mesh) -> Result<Camera> {
+pub(crate) fn camera_for(job: &Job, mesh: &Mesh) -> Result<Camera> {
     let bounds = mesh.bounds().context("the scene has no triangles")?;
     let mut cam = match job.camera {
         Some((eye, target, fov)) => Camera {

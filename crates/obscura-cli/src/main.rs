@@ -4,6 +4,7 @@ mod bench;
 mod budget;
 mod depthmap;
 mod eval;
+mod lights;
 mod output;
 mod render;
 
@@ -29,6 +30,9 @@ enum Command {
     /// Compare the AO of each pass layout with ray-traced ground truth (RMSE, bias, SSIM,
     /// error near depth discontinuities, time), on a scene or the shared standard views.
     Eval(eval::EvalArgs),
+    /// Interleaved many-light shading against shading every light: virtual point lights
+    /// on the built-in scene (or a scene file, or the shared views), time and error.
+    Lights(lights::LightsArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +54,7 @@ fn main() -> ExitCode {
         }
         Command::Bench(args) => bench::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Lights(args) => lights::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1110,3 +1110,167 @@ fn eval_scores_bent_normals_against_the_ray_tracer() {
     assert!(table.contains("| gtao randomized |"), "{table}");
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// The error column of the table row whose variant is `variant` (a float), if any.
+fn table_error(table: &str, variant: &str) -> Option<f64> {
+    table
+        .lines()
+        .find(|l| l.split('|').nth(2).map(str::trim) == Some(variant))
+        .and_then(|l| l.split('|').nth(5))
+        .and_then(|c| c.trim().parse().ok())
+}
+
+#[test]
+fn lights_compares_interleaved_shading_with_every_light() {
+    let d = scratch("lights");
+    let md = d.join("lights.md");
+    let out = obscura(&[
+        "lights",
+        "--width",
+        "160",
+        "--height",
+        "96",
+        "--count",
+        "64",
+        "--periods",
+        "2,4",
+        "--runs",
+        "1",
+        "--out-dir",
+        s(&d),
+        "--markdown",
+        s(&md),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    for n in [2, 4] {
+        let merged = table_error(&table, &format!("{n}×{n} interleaved + merge"));
+        let layered = table_error(&table, &format!("{n}×{n} layered + merge"));
+        let raw = table_error(&table, &format!("{n}×{n} interleaved, no merge"));
+        let (Some(merged), Some(layered), Some(raw)) = (merged, layered, raw) else {
+            panic!("rows for {n}×{n} missing: {table}");
+        };
+        // The same lights per pixel either way; the merge is what brings the error down.
+        assert!((merged - layered).abs() < 1e-3, "{table}");
+        assert!(
+            merged < 0.5 * raw,
+            "{n}×{n}: merged {merged}, raw {raw}: {table}"
+        );
+    }
+    // The pictures: the merged image is closer to every light's than the raw one.
+    let read = |name: &str| image::open(d.join(name)).unwrap().to_rgb8();
+    let all = read("courtyard-all.png");
+    assert_eq!(all.dimensions(), (160, 96));
+    let distance = |img: &image::RgbImage| -> f64 {
+        img.pixels()
+            .zip(all.pixels())
+            .map(|(a, b)| {
+                (0..3)
+                    .map(|c| (a[c] as f64 - b[c] as f64).powi(2))
+                    .sum::<f64>()
+            })
+            .sum()
+    };
+    let (merged, raw) = (read("courtyard-4x4.png"), read("courtyard-4x4-raw.png"));
+    assert!(distance(&merged) < 0.25 * distance(&raw));
+    let text = std::fs::read_to_string(&md).unwrap();
+    assert!(
+        text.contains("courtyard-4x4.png") && text.contains("every light"),
+        "{text}"
+    );
+}
+
+#[test]
+fn lights_rejects_bad_input() {
+    for (args, message) in [
+        (&["--periods", "3"][..], "--periods"),
+        (&["--count", "0"][..], "--count"),
+        (&["--count", "4096"][..], "--count"),
+        (&["--width", "0"][..], "--width"),
+        (&["--runs", "0"][..], "--runs"),
+        (&["--view", "nosuch"][..], "unknown view"),
+    ] {
+        let mut all = vec!["lights"];
+        all.extend_from_slice(args);
+        let out = obscura(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(
+            err.contains(message),
+            "{args:?}: expected `{message}` in {err}"
+        );
+    }
+}
+
+#[test]
+fn lights_reads_a_lights_file_and_refuses_bad_ones() {
+    let d = scratch("lights-file");
+    let good = d.join("lights.json");
+    std::fs::write(
+        &good,
+        r#"{"lights": [
+            {"position": [0, 2, 0], "colour": [1, 0.8, 0.6], "range": 8},
+            {"position": [3, 1, 2], "colour": [0.2, 0.4, 1], "range": 5},
+            {"position": [-3, 1, -2], "colour": [1, 1, 1], "range": 6}
+        ]}"#,
+    )
+    .unwrap();
+    let out = obscura(&[
+        "lights",
+        "--lights-file",
+        s(&good),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--periods",
+        "2",
+        "--runs",
+        "1",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.starts_with("3 lights, 96x64"), "{table}");
+    for (name, text, message) in [
+        ("missing.json", None, "cannot read lights file"),
+        ("notjson.json", Some("[{"), "is not JSON"),
+        ("object.json", Some(r#"{"x": 1}"#), "expected an array"),
+        ("empty.json", Some("[]"), "0 lights"),
+        (
+            "short.json",
+            Some(r#"[{"position": [0, 1], "colour": [1, 1, 1], "range": 1}]"#),
+            "light 0: `position`",
+        ),
+        (
+            "range.json",
+            Some(r#"[{"position": [0, 1, 2], "colour": [1, 1, 1], "range": 0}]"#),
+            "light 0: PointLight",
+        ),
+        (
+            "colour.json",
+            Some(r#"[{"position": [0, 1, 2], "colour": [1, -1, 1], "range": 2}]"#),
+            "a colour in [0, 1e20] and a range in [1e-15, 1e18]",
+        ),
+    ] {
+        let path = d.join(name);
+        if let Some(t) = text {
+            std::fs::write(&path, t).unwrap();
+        }
+        let out = obscura(&["lights", "--lights-file", s(&path), "--runs", "1"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{name} should fail");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(
+            err.contains(message),
+            "{name}: expected `{message}` in {err}"
+        );
+        assert!(
+            !err.contains("adapter:"),
+            "{name}: failed after starting GPU work: {err}"
+        );
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}

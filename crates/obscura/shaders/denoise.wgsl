@@ -1,20 +1,17 @@
 // Edge-aware spatial denoiser at the AO's working resolution: one pass of a joint
 // bilateral filter (Tomasi & Manduchi 1998; Kopf et al. 2007, "Joint Bilateral
 // Upsampling") guided by depth and normals, in the spirit of XeGTAO's denoiser (a small
-// kernel over the noise period). Composed after prepared_full.wgsl or prepared_layers.wgsl.
+// kernel over the noise period). Composed after prepared_full.wgsl or prepared_layers.wgsl
+// and merge.wgsl.
 //
 // The kernel spans exactly one period of the sampling patterns (PERIOD 2: 3×3, PERIOD 4:
 // 5×5) with spatial weights 1-2-1 or 1-2-2-2-1 per axis: the two end taps share a residue
 // modulo the period, so every pattern of the tile gets the same total weight and the
 // dither cancels on a flat surface (seed 003's tent filter has the same property for 2).
-// Each tap is further weighted by
-//   plane:  exp(-(z / tolerance)^2), z the larger of the tap's distance from the centre's
-//           tangent plane and the centre's from the tap's (a crease fails one of the two),
-//           tolerance = min(PLANE_TOLERANCE x depth, DENOISE_RADIUS_TOLERANCE x radius),
-//           at least NOISE_TOLERANCE_SIGMAS x σ of the depth noise:
-//           AO changes over the scale of the AO radius, so points farther apart than a
-//           fraction of it across the surface do not share AO;
-//   normal: max(n_tap . n, 0)^8 (halves at 25 degrees), as the bilateral upsampler.
+// Each tap is further weighted by its plane and normal weights (merge.wgsl), with the
+// plane tolerance min(PLANE_TOLERANCE x depth, DENOISE_RADIUS_TOLERANCE x radius), at
+// least NOISE_TOLERANCE_SIGMAS x σ of the depth noise: AO changes over the scale of the AO
+// radius, so points farther apart than a fraction of it across the surface do not share AO.
 // The output is not the weighted mean but the value at the centre of the weighted
 // least-squares plane through the taps, ao ≈ a + g·(dx, dy) (local linear regression,
 // Cleveland 1979; the joint bilateral filter's bias at edges and its removal: Buades,
@@ -70,13 +67,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 if s.x <= 0.0 {
                     continue;
                 }
-                let off = view_position(vec2<f32>(q) + 0.5, s.x) - pos;
-                let z = max(abs(dot(off, n)), abs(dot(off, s.yzw))) * inv_tol;
-                let c = max(dot(s.yzw, n), 0.0);
-                let c2 = c * c;
-                let c4 = c2 * c2;
                 let spatial = select(2.0, 1.0, abs(dx) == r) * select(2.0, 1.0, abs(dy) == r);
-                let w = spatial * exp(-z * z) * c4 * c4;
+                let w = spatial * merge_weight(pos, n, inv_tol, q, s);
                 let v = textureLoad(ao_in, q, 0).x;
                 let d = vec2<f32>(f32(dx), f32(dy));
                 total += w;

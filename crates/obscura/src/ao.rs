@@ -20,8 +20,8 @@
 use crate::layout::layer_size;
 use crate::shader::{
     dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, BENT_FORMAT,
-    HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT,
-    PYRAMID_LEVELS_PER_PASS, RESOLVED_DEPTH_FORMAT,
+    HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT,
+    PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS, RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -547,10 +547,10 @@ impl Timing {
 
 /// A compiled pass: pipeline and the layout of its bind group.
 #[derive(Debug)]
-struct Compiled {
-    pass: Pass,
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+pub(crate) struct Compiled {
+    pub(crate) pass: Pass,
+    pub(crate) pipeline: wgpu::ComputePipeline,
+    pub(crate) layout: wgpu::BindGroupLayout,
 }
 
 /// The AO pipeline. Create once; call [`Ao::record`] per frame.
@@ -802,6 +802,23 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
         ],
+        Pass::LightsShade => vec![
+            texture_entry(1, UNFILTERED, D2),
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                ..UNIFORM_ENTRY
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                ..UNIFORM_ENTRY
+            },
+            storage_entry(4, LIT_FORMAT, D2),
+        ],
+        Pass::LightsMerge => vec![
+            texture_entry(1, UNFILTERED, D2),
+            texture_entry(2, UNFILTERED, D2),
+            storage_entry(3, LIT_FORMAT, D2),
+        ],
         Pass::ResolveDepth => vec![
             wgpu::BindGroupLayoutEntry {
                 binding: 1,
@@ -829,6 +846,15 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
 }
 
 fn compile(device: &wgpu::Device, pass: Pass, options: &AoOptions) -> Compiled {
+    compile_with(device, pass, &pass.constants(options))
+}
+
+/// Compiles `pass` with its bind group layout and the override `constants`.
+pub(crate) fn compile_with(
+    device: &wgpu::Device,
+    pass: Pass,
+    constants: &[(&str, f64)],
+) -> Compiled {
     let label = Some(pass.label());
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label,
@@ -840,14 +866,13 @@ fn compile(device: &wgpu::Device, pass: Pass, options: &AoOptions) -> Compiled {
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
-    let constants = pass.constants(options);
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label,
         layout: Some(&pipeline_layout),
         module: &module,
         entry_point: Some("main"),
         compilation_options: wgpu::PipelineCompilationOptions {
-            constants: &constants,
+            constants,
             ..Default::default()
         },
         cache: None,
@@ -885,19 +910,19 @@ fn bind_group(
 /// Out-of-memory and validation error scopes around resource creation on the caller's
 /// device (never around per-frame recording), so failures come back as typed errors
 /// instead of reaching the device's uncaptured-error handler.
-struct ErrorScope {
+pub(crate) struct ErrorScope {
     oom: wgpu::ErrorScopeGuard,
     validation: wgpu::ErrorScopeGuard,
 }
 
 impl ErrorScope {
-    fn push(device: &wgpu::Device) -> Self {
+    pub(crate) fn push(device: &wgpu::Device) -> Self {
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         Self { oom, validation }
     }
 
-    fn pop(self, doing: &str) -> Result<()> {
+    pub(crate) fn pop(self, doing: &str) -> Result<()> {
         let v = pollster::block_on(self.validation.pop());
         let o = pollster::block_on(self.oom.pop());
         match o.or(v).map(Error::from) {
@@ -927,7 +952,7 @@ fn depth_binding(format: wgpu::TextureFormat) -> Result<DepthBinding> {
     }
 }
 
-fn make_texture(
+pub(crate) fn make_texture(
     device: &wgpu::Device,
     label: &str,
     size: (u32, u32),
@@ -1783,6 +1808,12 @@ impl Ao {
     /// full resolution unless unfused or upsampled bilaterally), for debugging/tests.
     pub fn prepared_view(&self) -> Option<&wgpu::TextureView> {
         self.sized.as_ref().and_then(|s| s.view(Res::Prepared))
+    }
+
+    /// The texture behind [`Ao::prepared_view`] (`Rgba32Float`), for passes that shade
+    /// from it ([`crate::Lights`]).
+    pub fn prepared(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::Prepared))
     }
 
     /// Full-resolution linear view depth (`R32Float`, 0 = sky) when AO runs below full

@@ -23,6 +23,10 @@
 //!    are created after the first frame at a size.
 //! 5. Read the AO (1 = unoccluded) in your lighting, e.g. multiply the ambient term.
 //!
+//! The same layout serves other sparse screen-space filters: [`Lights`] shades hundreds
+//! of point lights from the AO's prepared buffer, each pixel of an N×N tile a different
+//! 1/N² of them, and merges the tile back guided by geometry ([`lights`]).
+//!
 //! Every input is validated before any GPU work; errors are typed ([`Error`]).
 
 pub mod ao;
@@ -35,6 +39,7 @@ pub mod gpu_struct;
 pub mod input;
 pub mod jitter;
 pub mod layout;
+pub mod lights;
 pub mod noise;
 pub mod reference;
 pub mod settings;
@@ -46,6 +51,7 @@ pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use depth_map::{DepthMap, Intrinsics};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
+pub use lights::{Lights, LightsOptions, PointLight};
 pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,

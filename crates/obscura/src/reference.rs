@@ -1257,8 +1257,123 @@ pub fn denoise_bent(f: &FrameUniforms, prepared: &[Vec4], bent: &[Vec3], period:
         .collect()
 }
 
+/// Many-light shading (shaders/lights_shade.wgsl): per pixel the unshadowed diffuse
+/// irradiance of `lights`, all of them (`period` 1) or, with `period` n, those whose
+/// index is congruent to the pixel's layer modulo n², times n². Sky pixels are 0.
+pub fn shade_lights(
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    lights: &[crate::PointLight],
+    period: u32,
+) -> Vec<Vec3> {
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let stride = (period * period) as usize;
+    let mut out = Vec::with_capacity(prepared.len());
+    for y in 0..h {
+        for x in 0..w {
+            let c = prepared[(y * w + x) as usize];
+            if c.x.is_nan() || c.x <= 0.0 {
+                out.push(Vec3::ZERO);
+                continue;
+            }
+            let pos = f.view_position(centre([x, y]), c.x);
+            let n = Vec3::new(c.y, c.z, c.w);
+            let first = crate::layout::layer_of(x as u32, y as u32, period) as usize;
+            let mut e = Vec3::ZERO;
+            for light in lights.iter().skip(first).step_by(stride) {
+                let v = Vec3::from(light.position) - pos;
+                let d2 = v.length_squared();
+                let x = d2 / (light.range * light.range);
+                let window = (1.0 - x * x).clamp(0.0, 1.0);
+                let cosine = n.dot(v).max(0.0) / d2.max(1e-30).sqrt();
+                let min_d = crate::lights::LIGHT_MIN_DISTANCE * light.range;
+                e += Vec3::from(light.colour) * (cosine * window * window / d2.max(min_d * min_d));
+            }
+            out.push(e * stride as f32);
+        }
+    }
+    out
+}
+
+/// The merge of interleaved shading (shaders/lights_merge.wgsl): along x, then along y,
+/// per pixel each class of the `period` lattice interpolated linearly at the pixel from
+/// its two lattice neighbours (× geometric weights, taps past the border dropped),
+/// classes whose weights sum below `LIGHTS_CLASS_MIN_WEIGHT` left out, the rest
+/// averaged; sky passes through.
+pub fn merge_lights(f: &FrameUniforms, prepared: &[Vec4], lit: &[Vec3], period: u32) -> Vec<Vec3> {
+    let along_x = merge_lights_axis(f, prepared, lit, period, 0);
+    merge_lights_axis(f, prepared, &along_x, period, 1)
+}
+
+fn merge_lights_axis(
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    lit: &[Vec3],
+    period: u32,
+    axis: usize,
+) -> Vec<Vec3> {
+    use crate::lights::LIGHTS_CLASS_MIN_WEIGHT;
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let n = period as i32;
+    let at = |q: [i32; 2]| (q[1] * w + q[0]) as usize;
+    let extent = [w, h][axis];
+    let mut out = Vec::with_capacity(lit.len());
+    for y in 0..h {
+        for x in 0..w {
+            let p = [x, y];
+            let c = prepared[at(p)];
+            if c.x.is_nan() || c.x <= 0.0 {
+                out.push(lit[at(p)]);
+                continue;
+            }
+            let pos = f.view_position(centre(p), c.x);
+            let normal = Vec3::new(c.y, c.z, c.w);
+            let tol = f.plane_tolerance(c.x);
+            // The pixel's own class is the pixel alone, and always counts.
+            let (mut sum, mut classes) = (lit[at(p)], 1.0f32);
+            for k in 0..n {
+                let first = -(p[axis] - k).rem_euclid(n);
+                if first == 0 {
+                    continue;
+                }
+                let (mut total, mut acc) = (0.0f32, Vec3::ZERO);
+                for d in [first, first + n] {
+                    let linear = (n - d.abs()) as f32;
+                    if linear <= 0.0 || p[axis] + d < 0 || p[axis] + d >= extent {
+                        continue;
+                    }
+                    let mut q = p;
+                    q[axis] += d;
+                    let s = prepared[at(q)];
+                    if s.x.is_nan() || s.x <= 0.0 {
+                        continue;
+                    }
+                    let wgt = linear * merge_weight(f, pos, normal, tol, q, s);
+                    total += wgt;
+                    acc += wgt * lit[at(q)];
+                }
+                if total >= LIGHTS_CLASS_MIN_WEIGHT {
+                    sum += acc / total;
+                    classes += 1.0;
+                }
+            }
+            out.push(sum / classes);
+        }
+    }
+    out
+}
+
+/// The geometric weight of tap `q` (prepared `s`) for a centre at `pos` with normal `n`
+/// and plane tolerance `tol` (shaders/merge.wgsl): plane × normal.
+fn merge_weight(f: &FrameUniforms, pos: Vec3, n: Vec3, tol: f32, q: [i32; 2], s: Vec4) -> f32 {
+    let sn = Vec3::new(s.y, s.z, s.w);
+    let off = f.view_position(centre(q), s.x) - pos;
+    let z = off.dot(n).abs().max(off.dot(sn).abs()) / tol;
+    (-z * z).exp() * sn.dot(n).max(0.0).powi(8)
+}
+
 /// The denoiser's taps of every pixel in row order: `None` for sky, else each tap's pixel,
-/// offset and weight (shaders/denoise.wgsl).
+/// offset and weight (shaders/denoise.wgsl; the geometric part from shaders/merge.wgsl).
 fn denoise_taps<'a>(
     f: &'a FrameUniforms,
     prepared: &'a [Vec4],
@@ -1293,12 +1408,8 @@ fn denoise_taps<'a>(
                     if s.x <= 0.0 {
                         continue;
                     }
-                    let sn = Vec3::new(s.y, s.z, s.w);
-                    let off = f.view_position(centre(q), s.x) - pos;
-                    let z = off.dot(n).abs().max(off.dot(sn).abs()) / tol;
                     let spatial = |d: i32| if d.abs() == r { 1.0 } else { 2.0 };
-                    let wgt =
-                        spatial(dx) * spatial(dy) * (-z * z).exp() * sn.dot(n).max(0.0).powi(8);
+                    let wgt = spatial(dx) * spatial(dy) * merge_weight(f, pos, n, tol, q, s);
                     taps.push((q, glam::Vec2::new(dx as f32, dy as f32), wgt));
                 }
             }

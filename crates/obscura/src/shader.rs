@@ -3,6 +3,7 @@
 //! declarations: the single source of truth for values both sides use.
 
 use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
+use crate::lights::{GpuLight, LightsUniforms, LIGHTS_CLASS_MIN_WEIGHT, LIGHTS_MAX};
 use crate::uniforms::FrameUniforms;
 use crate::{DepthDownsample, Estimator, Upsampler};
 
@@ -102,6 +103,8 @@ pub const HISTORY_NORMAL_COS: f32 = 0.9;
 /// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth,
 /// normal)`, the view-space normal packed in one float (shaders/temporal.wgsl, `pack_normal`).
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Many-light shading ([`crate::lights`]): `vec4(irradiance rgb, 1)`.
+pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Bent normals ([`crate::AoOptions::bent_normals`]): `vec4(n, 0)`, n unit, view space.
 pub const BENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
@@ -232,6 +235,11 @@ pub enum Pass {
     /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
     /// reads it as a float input).
     ResolveDepth,
+    /// Many-light diffuse shading of the prepared buffer: every light, or with an override
+    /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]).
+    LightsShade,
+    /// The geometry-aware merge of interleaved many-light shading over one period.
+    LightsMerge,
 }
 
 impl Pass {
@@ -313,6 +321,7 @@ impl Pass {
                 Pass::AoDownsample { tent: b },
             ]);
         }
+        v.extend([Pass::LightsShade, Pass::LightsMerge]);
         v
     }
 
@@ -387,6 +396,8 @@ impl Pass {
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
+            Pass::LightsShade => "lights_shade",
+            Pass::LightsMerge => "lights_merge",
         }
     }
 
@@ -529,6 +540,7 @@ impl Pass {
             Pass::Denoise { layers, bent } => {
                 vec![
                     prepared_source(layers),
+                    include_str!("../shaders/merge.wgsl"),
                     if bent {
                         include_str!("../shaders/denoise_bent.wgsl")
                     } else {
@@ -550,6 +562,15 @@ impl Pass {
             }
             Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("../shaders/resolve_depth.wgsl")],
+            Pass::LightsShade => vec![
+                prepared_source(false),
+                include_str!("../shaders/lights_shade.wgsl"),
+            ],
+            Pass::LightsMerge => vec![
+                prepared_source(false),
+                include_str!("../shaders/merge.wgsl"),
+                include_str!("../shaders/lights_merge.wgsl"),
+            ],
         }
     }
 
@@ -648,6 +669,8 @@ impl Pass {
                 }
             }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
+            // Not AO passes: [`crate::lights::Lights`] sets their `PERIOD`.
+            Pass::LightsShade | Pass::LightsMerge => vec![],
             Pass::AoFull { estimator: e, bent } => {
                 [&estimator[..], &sphere(e)[..], &bent_constant(e, bent)[..]].concat()
             }
@@ -722,10 +745,14 @@ pub fn prelude() -> String {
          const FIT_SIGMAS: f32 = {FIT_SIGMAS:?};\n\
          const FIT_SLOPE: f32 = {FIT_SLOPE:?};\n\
          const NOISE_OFFSET_SIGMAS: f32 = {NOISE_OFFSET_SIGMAS:?};\n\
-         {}",
+         const LIGHTS_CLASS_MIN_WEIGHT: f32 = {LIGHTS_CLASS_MIN_WEIGHT:?};\n\
+         const LIGHTS_MAX: u32 = {LIGHTS_MAX}u;\n\
+         {}{}{}",
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),
-        FrameUniforms::wgsl()
+        FrameUniforms::wgsl(),
+        GpuLight::wgsl(),
+        LightsUniforms::wgsl()
     )
 }
 

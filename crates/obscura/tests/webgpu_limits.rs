@@ -2,9 +2,10 @@
 //! browser grants without asking), with no validation error. Its own binary: it needs its
 //! own device.
 
+use obscura::lights::LIGHTS_MAX;
 use obscura::{
-    Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Projection, Resolution,
-    Upsampler,
+    Ao, AoMode, AoOptions, AoParams, Denoise, DepthDownsample, Estimator, Lights, LightsOptions,
+    PointLight, Projection, Resolution, Upsampler,
 };
 
 mod common;
@@ -104,4 +105,47 @@ fn every_option_runs_within_webgpu_default_limits() {
         );
     }
     assert!(all.len() > 80, "{} combinations", all.len());
+
+    // Many-light shading from the randomized plan's prepared buffer: its 2048-light uniform
+    // array is exactly the default 64 KiB uniform binding.
+    let options = AoOptions {
+        mode: AoMode::Randomized,
+        ..Default::default()
+    };
+    let mut ao = Ao::new(&c.device, options).unwrap();
+    let frame = ao.validate(&input, &params).unwrap();
+    let lights: Vec<PointLight> = (0..LIGHTS_MAX)
+        .map(|i| PointLight {
+            position: [(i % 7) as f32 - 3.0, 1.0, -3.0],
+            colour: [1.0; 3],
+            range: 4.0,
+        })
+        .collect();
+    for period in [1, 2, 4, 8] {
+        for layered in [false, true] {
+            let options = LightsOptions {
+                period,
+                layered,
+                merge: true,
+            };
+            let mut l = Lights::new(&c.device, options).unwrap();
+            c.run(|enc| {
+                ao.record(&c.device, &c.queue, enc, &input, &params)?;
+                l.record(
+                    &c.device,
+                    &c.queue,
+                    enc,
+                    ao.prepared().unwrap(),
+                    &frame,
+                    &lights,
+                )
+            })
+            .unwrap_or_else(|e| panic!("{options:?}: {e}"));
+            let out = c.read_f32(l.output().unwrap()).unwrap();
+            assert!(
+                out.iter().all(|v| v.is_finite() && *v >= 0.0),
+                "{options:?}"
+            );
+        }
+    }
 }

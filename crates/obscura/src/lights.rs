@@ -1,0 +1,432 @@
+//! Interleaved many-light shading on the AO's prepared buffer (issue 14 item 3).
+//!
+//! Hundreds of point lights (virtual point lights, say) shaded at every pixel cost one
+//! light evaluation per light per pixel. Segovia, Iehl, Mitanchey & Péroche (2006, "Non-
+//! interleaved Deferred Shading of Interleaved Sample Patterns") give each pixel of an
+//! N × N tile a different 1/N² of the lights and merge the tile back with a geometry-aware
+//! filter: seed 000's interleaved sampling applied to lights instead of AO directions. Here
+//! the shading pass (shaders/lights_shade.wgsl) reads the prepared `vec4(linear depth, view
+//! normal)` buffer of an [`crate::Ao`] (or any texture in that format), and the merge
+//! (shaders/lights_merge.wgsl) interpolates each pixel class's lattice at every pixel with
+//! the AO denoiser's geometric weights (shaders/merge.wgsl) and averages the classes: one
+//! layout, one set of weights, two filters (docs/filters.md).
+//!
+//! ```text
+//! prepared ──lights_shade (pixel class k of N×N: lights k, k+N², …, × N²)──▶ lit
+//!          ──lights_merge (each class interpolated, plane + normal weights)──▶ irradiance
+//! ```
+//!
+//! `period` 1 shades every light at every pixel (the reference the interleaved result is
+//! judged against). Created once; [`Lights::record`] per frame writes three small buffers
+//! (frame, count, lights) and records one dispatch, or three with the merge; GPU objects are
+//! made only on the first frame at a size or with a new prepared texture. CPU mirror: [`crate::reference::shade_lights`] and
+//! [`crate::reference::merge_lights`].
+
+use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
+use crate::shader::{dispatch_size, Pass, LIT_FORMAT, PREPARED_FORMAT};
+use crate::uniforms::FrameUniforms;
+use crate::{Error, Result};
+
+/// A light's squared distance is clamped below at the square of this fraction of its
+/// range (shaders/lights_shade.wgsl): the usual clamp of a virtual point light's 1/d²
+/// singularity near surfaces (Keller 1997, "Instant Radiosity"), which otherwise puts a
+/// firefly on every surface a light sits on. 5%: a light lights the disc of its range
+/// with at most 400× the irradiance at its range's edge (before the window).
+pub const LIGHT_MIN_DISTANCE: f32 = 0.05;
+
+/// The merge (shaders/lights_merge.wgsl) leaves a pixel class out when its taps' weights
+/// (linear, 1 to period − 1 each, times geometric, at most 1) sum below this: neither of
+/// its taps lies within about 2.6 plane tolerances of the centre's surface (exp(−2.6²) ≈
+/// 1e-3 for a tap of linear weight 1, a little farther for heavier ones).
+pub const LIGHTS_CLASS_MIN_WEIGHT: f32 = 1e-3;
+
+/// Periods the passes support: 1 (every light, no merge) and 2, 4, 8.
+pub const LIGHT_PERIODS: [u32; 4] = [1, 2, 4, 8];
+
+/// Most lights per frame: the lights are a uniform array (shaders/lights_shade.wgsl),
+/// and 2048 × 32 bytes is WebGPU's default `maxUniformBufferBindingSize`, 64 KiB.
+pub const LIGHTS_MAX: u32 = 2048;
+
+/// A point light in the prepared buffer's view space (x right, y up, camera looking down
+/// −z, the units of the linear depth).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    /// View-space position.
+    pub position: [f32; 3],
+    /// Irradiance at unit distance, facing the light, linear rgb.
+    pub colour: [f32; 3],
+    /// Distance at which the light's falloff window reaches zero (> 0).
+    pub range: f32,
+}
+
+impl PointLight {
+    fn gpu(&self) -> GpuLight {
+        let [x, y, z] = self.position;
+        let [r, g, b] = self.colour;
+        let min_distance = LIGHT_MIN_DISTANCE * self.range;
+        GpuLight {
+            position_inv_range2: [x, y, z, 1.0 / (self.range * self.range)],
+            colour_min_distance2: [r, g, b, min_distance * min_distance],
+        }
+    }
+
+    /// Checks that the light can be shaded in f32 without overflow: a finite position, a
+    /// colour in [0, 1e20] and a range in [1e-15, 1e18]. `index` names it in the error.
+    pub fn validate(&self, index: usize) -> Result<()> {
+        let finite = self.position.iter().all(|v| v.is_finite());
+        let colour = self.colour.iter().all(|v| (0.0..=1e20).contains(v));
+        let range = (1e-15..=1e18).contains(&self.range);
+        if finite && colour && range {
+            return Ok(());
+        }
+        Err(Error::InvalidSetting {
+            field: "lights",
+            value: format!("light {index}: {self:?}"),
+            expected: "a finite position, a colour in [0, 1e20] and a range in [1e-15, 1e18]",
+        })
+    }
+}
+
+crate::gpu_struct! {
+    /// A light as shaders/lights_shade.wgsl reads it (built from [`PointLight`]).
+    pub struct GpuLight {
+        /// View-space position, 1 / range².
+        pub position_inv_range2: [f32; 4],
+        /// Colour, and the squared distance clamp (`LIGHT_MIN_DISTANCE` × range)².
+        pub colour_min_distance2: [f32; 4],
+    }
+}
+
+crate::gpu_struct! {
+    /// Per-frame parameters of the shading pass.
+    pub struct LightsUniforms {
+        /// Lights in the buffer this frame.
+        pub count: u32,
+        pub pad0: u32,
+        pub pad1: [u32; 2],
+    }
+}
+
+/// How [`Lights`] shades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightsOptions {
+    /// Each pixel of a `period` × `period` tile shades 1/period² of the lights (one of
+    /// [`LIGHT_PERIODS`]); 1 shades every light at every pixel.
+    pub period: u32,
+    /// Shade in the deinterleaved layout: one dispatch layer per pixel class, so the
+    /// invocations of a workgroup read the same lights (with `period` > 1).
+    pub layered: bool,
+    /// Merge the interleaved classes (with `period` > 1). Off: [`Lights::output`] is the
+    /// raw interleaved shading, for a merge of the caller's own (a TAA, say).
+    pub merge: bool,
+}
+
+impl Default for LightsOptions {
+    fn default() -> Self {
+        Self {
+            period: 4,
+            layered: false,
+            merge: true,
+        }
+    }
+}
+
+impl LightsOptions {
+    fn validate(&self) -> Result<()> {
+        if !LIGHT_PERIODS.contains(&self.period) {
+            return Err(Error::InvalidSetting {
+                field: "period",
+                value: self.period.to_string(),
+                expected: "1 (every light), 2, 4 or 8",
+            });
+        }
+        Ok(())
+    }
+
+    fn merges(&self) -> bool {
+        self.merge && self.period > 1
+    }
+}
+
+/// Resources for one size and one prepared texture.
+#[derive(Debug)]
+struct Sized {
+    size: [u32; 2],
+    prepared: wgpu::Texture,
+    lit: wgpu::Texture,
+    /// The merge along x, and the result.
+    merged: Option<[wgpu::Texture; 2]>,
+    shade_group: wgpu::BindGroup,
+    merge_groups: Option<[wgpu::BindGroup; 2]>,
+}
+
+/// Many-light shading passes. Create once; call [`Lights::record`] per frame.
+#[derive(Debug)]
+pub struct Lights {
+    options: LightsOptions,
+    shade: Compiled,
+    /// The merge along x, then along y.
+    merge: Option<[Compiled; 2]>,
+    frame: wgpu::Buffer,
+    uniforms: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    staging: Vec<GpuLight>,
+    sized: Option<Sized>,
+    created: u32,
+}
+
+impl Lights {
+    /// Compiles the passes and makes the light buffer.
+    pub fn new(device: &wgpu::Device, options: LightsOptions) -> Result<Self> {
+        options.validate()?;
+        let need = LIGHTS_MAX as u64 * std::mem::size_of::<GpuLight>() as u64;
+        let has = device.limits().max_uniform_buffer_binding_size;
+        if has < need {
+            return Err(Error::InvalidSetting {
+                field: "max_uniform_buffer_binding_size",
+                value: has.to_string(),
+                expected:
+                    "at least 65536 (WebGPU's default) for the LIGHTS_MAX-light uniform array",
+            });
+        }
+        let scope = ErrorScope::push(device);
+        let period = [("PERIOD", options.period as f64)];
+        let layered = (
+            "LAYERED",
+            (options.layered && options.period > 1) as u32 as f64,
+        );
+        let shade = compile_with(device, Pass::LightsShade, &[period[0], layered]);
+        let merge = options.merges().then(|| {
+            [0.0, 1.0]
+                .map(|axis| compile_with(device, Pass::LightsMerge, &[period[0], ("AXIS", axis)]))
+        });
+        let buffer = |label, size: usize, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let frame = buffer(
+            "lights frame",
+            std::mem::size_of::<FrameUniforms>(),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let uniforms = buffer(
+            "lights uniforms",
+            std::mem::size_of::<LightsUniforms>(),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let lights = buffer(
+            "lights",
+            LIGHTS_MAX as usize * std::mem::size_of::<GpuLight>(),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        scope.pop("compiling the many-light passes")?;
+        Ok(Self {
+            options,
+            shade,
+            merge,
+            frame,
+            uniforms,
+            lights,
+            staging: Vec::with_capacity(LIGHTS_MAX as usize),
+            sized: None,
+            created: 4 + if options.merges() { 2 } else { 0 },
+        })
+    }
+
+    /// The options it was made with.
+    pub fn options(&self) -> &LightsOptions {
+        &self.options
+    }
+
+    /// Records the shading (and the merge) of `lights` over `prepared`, a
+    /// [`PREPARED_FORMAT`] texture of `frame.size` with `TEXTURE_BINDING` usage (for
+    /// example [`crate::Ao::prepared`] after the AO's frame, with the `FrameUniforms` its
+    /// [`crate::Ao::validate`] returned). Everything is checked before any GPU work.
+    pub fn record(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        prepared: &wgpu::Texture,
+        frame: &FrameUniforms,
+        lights: &[PointLight],
+    ) -> Result<()> {
+        if lights.len() > LIGHTS_MAX as usize {
+            return Err(Error::InvalidSetting {
+                field: "lights",
+                value: format!("{} lights", lights.len()),
+                expected: "at most LIGHTS_MAX (2048) per frame; shade more in several Lights",
+            });
+        }
+        for (i, l) in lights.iter().enumerate() {
+            l.validate(i)?;
+        }
+        let size = [prepared.width(), prepared.height()];
+        if prepared.format() != PREPARED_FORMAT
+            || size != frame.size
+            || !prepared
+                .usage()
+                .contains(wgpu::TextureUsages::TEXTURE_BINDING)
+        {
+            return Err(Error::InvalidTexture {
+                what: "prepared",
+                reason: format!(
+                    "{:?} {}x{} ({:?}); expected {PREPARED_FORMAT:?} at the frame's {}x{} with TEXTURE_BINDING",
+                    prepared.format(),
+                    size[0],
+                    size[1],
+                    prepared.usage(),
+                    frame.size[0],
+                    frame.size[1],
+                ),
+            });
+        }
+        self.ensure_sized(device, prepared)?;
+        let Some(sized) = &self.sized else {
+            return Err(Error::Gpu("many-light resources missing".into()));
+        };
+        self.staging.clear();
+        self.staging.extend(lights.iter().map(PointLight::gpu));
+        if !self.staging.is_empty() {
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&self.staging));
+        }
+        let uniforms = LightsUniforms {
+            count: lights.len() as u32,
+            pad0: 0,
+            pad1: [0; 2],
+        };
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
+        let (x, y) = dispatch_size(size);
+        let n = self.options.period;
+        let (sx, sy, sz) = if self.options.layered && n > 1 {
+            let (lx, ly) = dispatch_size([size[0].div_ceil(n), size[1].div_ceil(n)]);
+            (lx, ly, n * n)
+        } else {
+            (x, y, 1)
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("obscura lights"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.shade.pipeline);
+        pass.set_bind_group(0, &sized.shade_group, &[]);
+        pass.dispatch_workgroups(sx, sy, sz);
+        if let (Some(merge), Some(groups)) = (&self.merge, &sized.merge_groups) {
+            for (c, group) in merge.iter().zip(groups) {
+                pass.set_pipeline(&c.pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        }
+        Ok(())
+    }
+
+    /// Makes the textures and bind groups for `prepared` unless they exist.
+    fn ensure_sized(&mut self, device: &wgpu::Device, prepared: &wgpu::Texture) -> Result<()> {
+        let size = [prepared.width(), prepared.height()];
+        if self
+            .sized
+            .as_ref()
+            .is_some_and(|s| s.size == size && s.prepared == *prepared)
+        {
+            return Ok(());
+        }
+        self.sized = None;
+        let scope = ErrorScope::push(device);
+        let dims = (size[0], size[1]);
+        let lit = make_texture(device, "obscura lit", dims, 1, 1, LIT_FORMAT);
+        let merged = self.merge.is_some().then(|| {
+            ["obscura lit merged x", "obscura lit merged"]
+                .map(|label| make_texture(device, label, dims, 1, 1, LIT_FORMAT))
+        });
+        let prepared_view = prepared.create_view(&Default::default());
+        let lit_view = lit.create_view(&Default::default());
+        let group = |c: &Compiled, entries: &[wgpu::BindGroupEntry]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(c.pass.label()),
+                layout: &c.layout,
+                entries,
+            })
+        };
+        let frame = wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.frame.as_entire_binding(),
+        };
+        let view = |binding, v| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(v),
+        };
+        let shade_group = group(
+            &self.shade,
+            &[
+                frame.clone(),
+                view(1, &prepared_view),
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+                view(4, &lit_view),
+            ],
+        );
+        let merge_groups = match (&self.merge, &merged) {
+            (Some([x, y]), Some([mx, my])) => {
+                let (mx, my) = (
+                    mx.create_view(&Default::default()),
+                    my.create_view(&Default::default()),
+                );
+                let entries = |from, to| {
+                    [
+                        frame.clone(),
+                        view(1, &prepared_view),
+                        view(2, from),
+                        view(3, to),
+                    ]
+                };
+                Some([
+                    group(x, &entries(&lit_view, &mx)),
+                    group(y, &entries(&mx, &my)),
+                ])
+            }
+            _ => None,
+        };
+        scope.pop("creating the many-light textures")?;
+        self.created += 2 + 4 * merged.is_some() as u32;
+        self.sized = Some(Sized {
+            size,
+            prepared: prepared.clone(),
+            lit,
+            merged,
+            shade_group,
+            merge_groups,
+        });
+        Ok(())
+    }
+
+    /// The result of the last frame: merged irradiance, or the raw shading when nothing
+    /// merges (`vec4(rgb, 1)`, [`LIT_FORMAT`]). `None` before the first frame.
+    pub fn output(&self) -> Option<&wgpu::Texture> {
+        self.sized
+            .as_ref()
+            .map(|s| s.merged.as_ref().map_or(&s.lit, |[_, m]| m))
+    }
+
+    /// The raw shading before the merge (each pixel its class's lights, × period²).
+    pub fn raw(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().map(|s| &s.lit)
+    }
+
+    /// GPU objects (pipelines, buffers, textures, bind groups) created so far: constant
+    /// once frames repeat at one size with one prepared texture.
+    pub fn resource_creations(&self) -> u32 {
+        self.created
+    }
+}
