@@ -138,7 +138,7 @@ pub struct EvalArgs {
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
-    /// Also score GTAO's bent normals (its single-frame variants, run once more with bent
+    /// Also score the bent normals of GTAO and HBAO (their single-frame variants, run once more with bent
     /// normals on, untimed; not after box/tent below full resolution) against the ray tracer's: the mean angle to the
     /// traced bent normal, over all pixels and over occluded ones (traced AO < 0.9), beside
     /// the surface normal's angle to it (what a renderer without bent normals uses).
@@ -936,7 +936,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 Some(o),
             ));
         }
-        // Bent normals of GTAO's single-frame variants (untimed; unfused, which is the same
+        // Bent normals of GTAO's and HBAO's single-frame variants (untimed; unfused, which is the same
         // work, so that the prepared normals can be read back), where they come out at full
         // resolution (not after box/tent filtering below it).
         let mut bent_of = std::collections::HashMap::new();
@@ -1326,7 +1326,7 @@ fn bent_table(rows: &[Row]) -> String {
     if names.is_empty() {
         return String::new();
     }
-    let mut s = format!("\n### Bent normals\n\nMean angle to the ray tracer's bent normal (the mean direction of its unoccluded cosine-weighted rays), over the views: of GTAO's bent normals, and of the surface normal it was given or reconstructed (what a renderer uses without bent normals); *occluded*: pixels whose traced AO is below {OCCLUDED}, where the two differ most.\n\n| variant | bent normals | surface normal | bent normals, occluded | surface normal, occluded |\n|---|---|---|---|---|\n");
+    let mut s = format!("\n### Bent normals\n\nMean angle to the ray tracer's bent normal (the mean direction of its unoccluded cosine-weighted rays), over the views: of the estimator's bent normals (GTAO, HBAO), and of the surface normal it was given or reconstructed (what a renderer uses without bent normals); *occluded*: pixels whose traced AO is below {OCCLUDED}, where the two differ most.\n\n| variant | bent normals | surface normal | bent normals, occluded | surface normal, occluded |\n|---|---|---|---|---|\n");
     for name in names {
         let mine: Vec<BentError> = rows
             .iter()

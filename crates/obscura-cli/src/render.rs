@@ -336,7 +336,7 @@ pub struct RenderArgs {
     /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
-    /// Also write GTAO's bent normals (view space, unit, the cosine-weighted mean unoccluded
+    /// Also write the bent normals of GTAO or HBAO (view space, unit, the cosine-weighted mean unoccluded
     /// direction; full resolution, or the working one with --denoise box|tent): .png (8-bit
     /// RGB of xyz * 0.5 + 0.5, black on sky), .npy (float32, height × width × 3) or .exr
     /// (float32 RGB = xyz).
@@ -432,7 +432,7 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
     if let Some(p) = &a.bent_normals_out {
         if !Estimator::from(a.quality.estimator).has_bent_normals() {
             bail!(
-                "--bent-normals-out needs --estimator gtao (bent normals come from its horizons)"
+                "--bent-normals-out needs --estimator gtao or hbao (bent normals come from their horizons)"
             );
         }
         if a.orbit.is_some() {

@@ -457,12 +457,19 @@ impl Pixels<'_> {
 
 /// HBAO of one pixel; mirrors `estimate` in shaders/hbao.wgsl.
 pub fn hbao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    hbao_pixel_bent(px, p, pattern).0
+}
+
+/// HBAO of one pixel and its bent normal (unit, view space; zero on sky); mirrors
+/// `estimate` in shaders/hbao.wgsl with BENT_NORMALS.
+pub fn hbao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
     let f = px.f;
     let Some(Surface { d, n, pos }) = px.surface(p) else {
-        return 1.0;
+        return (1.0, Vec3::ZERO);
     };
     let step_px = f.step_px(d, px.steps);
     let mut occlusion = 0.0;
+    let mut bent = Vec3::ZERO;
     for i in 0..px.directions {
         let a = i as f32 * (std::f32::consts::TAU / px.directions as f32);
         let (bs, bc) = a.sin_cos();
@@ -493,8 +500,26 @@ pub fn hbao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
                 sin_h = sin_e;
             }
         }
+        // Above the horizon in this direction: t cos³h / 3 + n (1 − sin³h) / 3, t the
+        // screen direction moved along the view vector into the tangent plane.
+        let view = if f.perspective != 0 {
+            (-pos).normalize()
+        } else {
+            Vec3::Z
+        };
+        let d3 = Vec3::new(dir[0], -dir[1], 0.0);
+        let along = d3 * view.dot(n).max(1e-4) - view * d3.dot(n);
+        let t = along / along.dot(along).max(1e-12).sqrt();
+        let s = sin_h.clamp(-1.0, 1.0);
+        let c2 = 1.0 - s * s;
+        bent += t * (c2 * c2.sqrt() / 3.0) + n * ((1.0 - s * s * s) / 3.0);
     }
-    (1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0)
+    let bent = if bent.length_squared() > 1e-12 {
+        bent.normalize()
+    } else {
+        n
+    };
+    ((1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0), bent)
 }
 
 /// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
@@ -822,12 +847,17 @@ pub fn ao_over(
     )
 }
 
-/// GTAO's bent normals ([`crate::AoOptions::bent_normals`]) over the grid of `f` (the
-/// working frame; `prepared` its level) with the patterns and lattice of the mode, as the
-/// AO pass writes them before any denoiser (unit, view space; zero on sky).
+/// The bent normals of GTAO or HBAO ([`crate::AoOptions::bent_normals`]) over the grid of
+/// `f` (the working frame; `prepared` its level) with the patterns and lattice of the
+/// mode, as the AO pass writes them before any denoiser (unit, view space; zero on sky).
 pub fn bent_normals(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<Vec3> {
+    let hbao = options.estimator == crate::Estimator::Hbao;
     over_pixels(f, options, prepared, f.size, prepared, |px, q, pattern| {
-        gtao_pixel_bent(px, q, pattern).1
+        if hbao {
+            hbao_pixel_bent(px, q, pattern).1
+        } else {
+            gtao_pixel_bent(px, q, pattern).1
+        }
     })
 }
 

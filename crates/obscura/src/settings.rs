@@ -86,10 +86,10 @@ impl Estimator {
         self == Estimator::VoArea
     }
 
-    /// Whether the estimator can output bent normals ([`AoOptions::bent_normals`]): GTAO,
-    /// whose horizons bound the unoccluded arc of every slice.
+    /// Whether the estimator can output bent normals ([`AoOptions::bent_normals`]): GTAO
+    /// and HBAO, whose horizons bound the unoccluded arc of every slice or direction.
     pub fn has_bent_normals(self) -> bool {
-        self == Estimator::Gtao
+        matches!(self, Estimator::Gtao | Estimator::Hbao)
     }
 }
 
@@ -423,7 +423,7 @@ pub struct AoOptions {
     /// sec. 5), integrated from the same horizons as the AO, for diffuse environment
     /// lighting and specular occlusion. Through the temporal pass, the spatial denoiser and
     /// the upsampler with the AO's texels and weights, so at full resolution; not through
-    /// the box/tent filters (with them, at the working resolution). GTAO only
+    /// the box/tent filters (with them, at the working resolution). GTAO and HBAO
     /// ([`Estimator::has_bent_normals`]). Default `false`.
     pub bent_normals: bool,
 }

@@ -194,7 +194,7 @@ pub enum Pass {
         fit: bool,
     },
     /// The randomized single full-resolution AO pass; `bent`: bent normals written too
-    /// (GTAO only).
+    /// (GTAO and HBAO).
     AoFull { estimator: Estimator, bent: bool },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
     /// else keep the result in layers for [`Pass::Interleave`]; `bent` as for
@@ -687,9 +687,10 @@ impl Pass {
     }
 }
 
-/// GTAO's `BENT_NORMALS` (the other estimators declare no such constant).
+/// The `BENT_NORMALS` of the estimators that have bent normals (the others declare no
+/// such constant).
 fn bent_constant(e: Estimator, bent: bool) -> Vec<(&'static str, f64)> {
-    if e == Estimator::Gtao {
+    if e.has_bent_normals() {
         vec![("BENT_NORMALS", bent as u32 as f64)]
     } else {
         vec![]
@@ -706,10 +707,14 @@ fn ao_bent(bent: bool) -> &'static str {
 }
 
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
-/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO only).
+/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO).
 fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
     if bent {
-        return ["gtao_bent", "gtao_bent_layers_merge", "gtao_bent_layers"][kind];
+        let names = match e {
+            Estimator::Hbao => ["hbao_bent", "hbao_bent_layers_merge", "hbao_bent_layers"],
+            _ => ["gtao_bent", "gtao_bent_layers_merge", "gtao_bent_layers"],
+        };
+        return names[kind];
     }
     let names: [&'static str; 3] = match e {
         Estimator::Hbao => ["hbao", "hbao_layers_merge", "hbao_layers"],
