@@ -802,8 +802,8 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
         ],
-        Pass::LightsShade => vec![
-            texture_entry(1, UNFILTERED, D2),
+        Pass::LightsShade { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
             wgpu::BindGroupLayoutEntry {
                 binding: 2,
                 ..UNIFORM_ENTRY
@@ -814,8 +814,8 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             },
             storage_entry(4, LIT_FORMAT, D2),
         ],
-        Pass::LightsMerge => vec![
-            texture_entry(1, UNFILTERED, D2),
+        Pass::LightsMerge { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
             storage_entry(3, LIT_FORMAT, D2),
         ],
@@ -1814,6 +1814,25 @@ impl Ao {
     /// from it ([`crate::Lights`]).
     pub fn prepared(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Prepared))
+    }
+
+    /// The full-resolution depth and normals of the last frame for passes that shade from
+    /// them ([`crate::Lights`]): the prepared buffer, or in the fused deinterleaved modes
+    /// its N×N layers. `None` below full resolution, where only the working grid's exist.
+    pub fn prepared_source(&self) -> Option<crate::lights::Prepared<'_>> {
+        if self.options.resolution != crate::Resolution::Full {
+            return None;
+        }
+        let sized = self.sized.as_ref()?;
+        if let Some(t) = sized.texture(Res::Prepared) {
+            return Some(crate::lights::Prepared::Full(t));
+        }
+        sized
+            .texture(Res::PreparedLayers)
+            .map(|texture| crate::lights::Prepared::Layers {
+                texture,
+                split: self.options.mode.split(),
+            })
     }
 
     /// Full-resolution linear view depth (`R32Float`, 0 = sky) when AO runs below full

@@ -51,7 +51,7 @@ pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use depth_map::{DepthMap, Intrinsics};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
-pub use lights::{Lights, LightsOptions, PointLight};
+pub use lights::{Lights, LightsOptions, PointLight, Prepared};
 pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,

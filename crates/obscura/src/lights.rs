@@ -6,7 +6,8 @@
 //! N × N tile a different 1/N² of the lights and merge the tile back with a geometry-aware
 //! filter: seed 000's interleaved sampling applied to lights instead of AO directions. Here
 //! the shading pass (shaders/lights_shade.wgsl) reads the prepared `vec4(linear depth, view
-//! normal)` buffer of an [`crate::Ao`] (or any texture in that format), and the merge
+//! normal)` buffer of an [`crate::Ao`] (one texture or its N×N layers,
+//! [`crate::Ao::prepared_source`]; or any texture in that format), and the merge
 //! (shaders/lights_merge.wgsl) interpolates each pixel class's lattice at every pixel with
 //! the AO denoiser's geometric weights (shaders/merge.wgsl) and averages the classes: one
 //! layout, one set of weights, two filters (docs/filters.md).
@@ -148,11 +149,102 @@ impl LightsOptions {
     }
 }
 
+/// Where [`Lights`] reads linear depth and view normals (`vec4(d, n)`, [`PREPARED_FORMAT`],
+/// `TEXTURE_BINDING` usage): an AO's [`crate::Ao::prepared_source`], or a texture of the
+/// caller's.
+#[derive(Clone, Copy, Debug)]
+pub enum Prepared<'a> {
+    /// One texture at the frame's size.
+    Full(&'a wgpu::Texture),
+    /// `split` × `split` layers of a `texture_2d_array` (the AO's fused deinterleaved
+    /// modes): pixel (x, y) at texel (x / split, y / split) of layer
+    /// `x mod split + split · (y mod split)` (src/layout.rs).
+    Layers {
+        texture: &'a wgpu::Texture,
+        split: u32,
+    },
+}
+
+impl<'a> From<&'a wgpu::Texture> for Prepared<'a> {
+    fn from(t: &'a wgpu::Texture) -> Self {
+        Prepared::Full(t)
+    }
+}
+
+impl Prepared<'_> {
+    fn texture(&self) -> &wgpu::Texture {
+        match *self {
+            Prepared::Full(t) | Prepared::Layers { texture: t, .. } => t,
+        }
+    }
+
+    /// 0 for one texture, else the split.
+    fn split(&self) -> u32 {
+        match *self {
+            Prepared::Full(_) => 0,
+            Prepared::Layers { split, .. } => split,
+        }
+    }
+
+    /// Checks format, usage and size against the frame's `size`.
+    fn validate(&self, size: [u32; 2]) -> Result<()> {
+        let t = self.texture();
+        let (want, layers) = match *self {
+            Prepared::Full(_) => (size, 1),
+            Prepared::Layers { split, .. } => {
+                if split != 2 && split != 4 {
+                    return Err(Error::InvalidSetting {
+                        field: "split",
+                        value: split.to_string(),
+                        expected: "2 or 4 (the AO's deinterleaved modes)",
+                    });
+                }
+                (
+                    [size[0].div_ceil(split), size[1].div_ceil(split)],
+                    split * split,
+                )
+            }
+        };
+        let ok = t.format() == PREPARED_FORMAT
+            && [t.width(), t.height()] == want
+            && t.depth_or_array_layers() == layers
+            && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING);
+        if ok {
+            return Ok(());
+        }
+        Err(Error::InvalidTexture {
+            what: "prepared",
+            reason: format!(
+                "{:?} {}x{}x{} ({:?}); expected {PREPARED_FORMAT:?}, {}x{}x{layers} for a {}x{} frame, with TEXTURE_BINDING",
+                t.format(),
+                t.width(),
+                t.height(),
+                t.depth_or_array_layers(),
+                t.usage(),
+                want[0],
+                want[1],
+                size[0],
+                size[1],
+            ),
+        })
+    }
+}
+
+/// The passes for one kind of prepared source (`split` 0: one texture).
+#[derive(Debug)]
+struct Pipelines {
+    split: u32,
+    shade: Compiled,
+    /// The merge along x, then along y.
+    merge: Option<[Compiled; 2]>,
+}
+
 /// Resources for one size and one prepared texture.
 #[derive(Debug)]
 struct Sized {
     size: [u32; 2],
     prepared: wgpu::Texture,
+    split: u32,
     lit: wgpu::Texture,
     /// The merge along x, and the result.
     merged: Option<[wgpu::Texture; 2]>,
@@ -164,9 +256,8 @@ struct Sized {
 #[derive(Debug)]
 pub struct Lights {
     options: LightsOptions,
-    shade: Compiled,
-    /// The merge along x, then along y.
-    merge: Option<[Compiled; 2]>,
+    /// Compiled for one texture at creation, for layers on the first frame that has them.
+    pipelines: Vec<Pipelines>,
     frame: wgpu::Buffer,
     uniforms: wgpu::Buffer,
     lights: wgpu::Buffer,
@@ -190,16 +281,7 @@ impl Lights {
             });
         }
         let scope = ErrorScope::push(device);
-        let period = [("PERIOD", options.period as f64)];
-        let layered = (
-            "LAYERED",
-            (options.layered && options.period > 1) as u32 as f64,
-        );
-        let shade = compile_with(device, Pass::LightsShade, &[period[0], layered]);
-        let merge = options.merges().then(|| {
-            [0.0, 1.0]
-                .map(|axis| compile_with(device, Pass::LightsMerge, &[period[0], ("AXIS", axis)]))
-        });
+        let pipelines = vec![Self::compile(device, &options, 0)];
         let buffer = |label, size: usize, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -226,8 +308,7 @@ impl Lights {
         scope.pop("compiling the many-light passes")?;
         Ok(Self {
             options,
-            shade,
-            merge,
+            pipelines,
             frame,
             uniforms,
             lights,
@@ -237,24 +318,52 @@ impl Lights {
         })
     }
 
+    /// The shading and merge passes for a prepared source of `split` (0: one texture).
+    fn compile(device: &wgpu::Device, options: &LightsOptions, split: u32) -> Pipelines {
+        let layers = split > 0;
+        let mut constants = vec![("PERIOD", options.period as f64)];
+        if layers {
+            constants.push(("SPLIT", split as f64));
+        }
+        let mut shade_constants = constants.clone();
+        shade_constants.push((
+            "LAYERED",
+            (options.layered && options.period > 1) as u32 as f64,
+        ));
+        let shade = compile_with(device, Pass::LightsShade { layers }, &shade_constants);
+        let merge = options.merges().then(|| {
+            [0.0, 1.0].map(|axis| {
+                let mut c = constants.clone();
+                c.push(("AXIS", axis));
+                compile_with(device, Pass::LightsMerge { layers }, &c)
+            })
+        });
+        Pipelines {
+            split,
+            shade,
+            merge,
+        }
+    }
+
     /// The options it was made with.
     pub fn options(&self) -> &LightsOptions {
         &self.options
     }
 
-    /// Records the shading (and the merge) of `lights` over `prepared`, a
-    /// [`PREPARED_FORMAT`] texture of `frame.size` with `TEXTURE_BINDING` usage (for
-    /// example [`crate::Ao::prepared`] after the AO's frame, with the `FrameUniforms` its
-    /// [`crate::Ao::validate`] returned). Everything is checked before any GPU work.
-    pub fn record(
+    /// Records the shading (and the merge) of `lights` over `prepared` at `frame.size` (for
+    /// example [`crate::Ao::prepared_source`] after the AO's frame, with the
+    /// `FrameUniforms` its [`crate::Ao::validate`] returned; a plain texture converts to
+    /// [`Prepared::Full`]). Everything is checked before any GPU work.
+    pub fn record<'p>(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        prepared: &wgpu::Texture,
+        prepared: impl Into<Prepared<'p>>,
         frame: &FrameUniforms,
         lights: &[PointLight],
     ) -> Result<()> {
+        let prepared = prepared.into();
         if lights.len() > LIGHTS_MAX as usize {
             return Err(Error::InvalidSetting {
                 field: "lights",
@@ -265,28 +374,21 @@ impl Lights {
         for (i, l) in lights.iter().enumerate() {
             l.validate(i)?;
         }
-        let size = [prepared.width(), prepared.height()];
-        if prepared.format() != PREPARED_FORMAT
-            || size != frame.size
-            || !prepared
-                .usage()
-                .contains(wgpu::TextureUsages::TEXTURE_BINDING)
-        {
-            return Err(Error::InvalidTexture {
-                what: "prepared",
-                reason: format!(
-                    "{:?} {}x{} ({:?}); expected {PREPARED_FORMAT:?} at the frame's {}x{} with TEXTURE_BINDING",
-                    prepared.format(),
-                    size[0],
-                    size[1],
-                    prepared.usage(),
-                    frame.size[0],
-                    frame.size[1],
-                ),
-            });
+        prepared.validate(frame.size)?;
+        let split = prepared.split();
+        if !self.pipelines.iter().any(|p| p.split == split) {
+            let scope = ErrorScope::push(device);
+            let compiled = Self::compile(device, &self.options, split);
+            scope.pop("compiling the many-light passes for layers")?;
+            self.created += 1 + 2 * self.options.merges() as u32;
+            self.pipelines.push(compiled);
         }
-        self.ensure_sized(device, prepared)?;
-        let Some(sized) = &self.sized else {
+        let size = frame.size;
+        self.ensure_sized(device, prepared, size)?;
+        let (Some(sized), Some(pipelines)) = (
+            &self.sized,
+            self.pipelines.iter().find(|p| p.split == split),
+        ) else {
             return Err(Error::Gpu("many-light resources missing".into()));
         };
         self.staging.clear();
@@ -313,10 +415,10 @@ impl Lights {
             label: Some("obscura lights"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.shade.pipeline);
+        pass.set_pipeline(&pipelines.shade.pipeline);
         pass.set_bind_group(0, &sized.shade_group, &[]);
         pass.dispatch_workgroups(sx, sy, sz);
-        if let (Some(merge), Some(groups)) = (&self.merge, &sized.merge_groups) {
+        if let (Some(merge), Some(groups)) = (&pipelines.merge, &sized.merge_groups) {
             for (c, group) in merge.iter().zip(groups) {
                 pass.set_pipeline(&c.pipeline);
                 pass.set_bind_group(0, group, &[]);
@@ -326,25 +428,40 @@ impl Lights {
         Ok(())
     }
 
-    /// Makes the textures and bind groups for `prepared` unless they exist.
-    fn ensure_sized(&mut self, device: &wgpu::Device, prepared: &wgpu::Texture) -> Result<()> {
-        let size = [prepared.width(), prepared.height()];
+    /// Makes the textures and bind groups for `prepared` at `size` unless they exist.
+    fn ensure_sized(
+        &mut self,
+        device: &wgpu::Device,
+        prepared: Prepared<'_>,
+        size: [u32; 2],
+    ) -> Result<()> {
+        let (texture, split) = (prepared.texture(), prepared.split());
         if self
             .sized
             .as_ref()
-            .is_some_and(|s| s.size == size && s.prepared == *prepared)
+            .is_some_and(|s| s.size == size && s.prepared == *texture && s.split == split)
         {
             return Ok(());
         }
+        let Some(pipelines) = self.pipelines.iter().find(|p| p.split == split) else {
+            return Err(Error::Gpu("many-light passes missing".into()));
+        };
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
         let lit = make_texture(device, "obscura lit", dims, 1, 1, LIT_FORMAT);
-        let merged = self.merge.is_some().then(|| {
+        let merged = pipelines.merge.is_some().then(|| {
             ["obscura lit merged x", "obscura lit merged"]
                 .map(|label| make_texture(device, label, dims, 1, 1, LIT_FORMAT))
         });
-        let prepared_view = prepared.create_view(&Default::default());
+        let prepared_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(if split > 0 {
+                wgpu::TextureViewDimension::D2Array
+            } else {
+                wgpu::TextureViewDimension::D2
+            }),
+            ..Default::default()
+        });
         let lit_view = lit.create_view(&Default::default());
         let group = |c: &Compiled, entries: &[wgpu::BindGroupEntry]| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -362,7 +479,7 @@ impl Lights {
             resource: wgpu::BindingResource::TextureView(v),
         };
         let shade_group = group(
-            &self.shade,
+            &pipelines.shade,
             &[
                 frame.clone(),
                 view(1, &prepared_view),
@@ -377,7 +494,7 @@ impl Lights {
                 view(4, &lit_view),
             ],
         );
-        let merge_groups = match (&self.merge, &merged) {
+        let merge_groups = match (&pipelines.merge, &merged) {
             (Some([x, y]), Some([mx, my])) => {
                 let (mx, my) = (
                     mx.create_view(&Default::default()),
@@ -402,7 +519,8 @@ impl Lights {
         self.created += 2 + 4 * merged.is_some() as u32;
         self.sized = Some(Sized {
             size,
-            prepared: prepared.clone(),
+            prepared: texture.clone(),
+            split,
             lit,
             merged,
             shade_group,

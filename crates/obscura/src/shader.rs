@@ -236,10 +236,11 @@ pub enum Pass {
     /// reads it as a float input).
     ResolveDepth,
     /// Many-light diffuse shading of the prepared buffer: every light, or with an override
-    /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]).
-    LightsShade,
+    /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]);
+    /// `layers`: the prepared buffer as the AO's N×N layers (fused deinterleaved modes).
+    LightsShade { layers: bool },
     /// The geometry-aware merge of interleaved many-light shading over one period.
-    LightsMerge,
+    LightsMerge { layers: bool },
 }
 
 impl Pass {
@@ -321,7 +322,9 @@ impl Pass {
                 Pass::AoDownsample { tent: b },
             ]);
         }
-        v.extend([Pass::LightsShade, Pass::LightsMerge]);
+        for layers in [false, true] {
+            v.extend([Pass::LightsShade { layers }, Pass::LightsMerge { layers }]);
+        }
         v
     }
 
@@ -396,8 +399,12 @@ impl Pass {
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
-            Pass::LightsShade => "lights_shade",
-            Pass::LightsMerge => "lights_merge",
+            Pass::LightsShade { layers } => {
+                ["lights_shade", "lights_shade_from_layers"][layers as usize]
+            }
+            Pass::LightsMerge { layers } => {
+                ["lights_merge", "lights_merge_from_layers"][layers as usize]
+            }
         }
     }
 
@@ -562,12 +569,12 @@ impl Pass {
             }
             Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("../shaders/resolve_depth.wgsl")],
-            Pass::LightsShade => vec![
-                prepared_source(false),
+            Pass::LightsShade { layers } => vec![
+                prepared_source(layers),
                 include_str!("../shaders/lights_shade.wgsl"),
             ],
-            Pass::LightsMerge => vec![
-                prepared_source(false),
+            Pass::LightsMerge { layers } => vec![
+                prepared_source(layers),
                 include_str!("../shaders/merge.wgsl"),
                 include_str!("../shaders/lights_merge.wgsl"),
             ],
@@ -670,7 +677,7 @@ impl Pass {
             }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             // Not AO passes: [`crate::lights::Lights`] sets their `PERIOD`.
-            Pass::LightsShade | Pass::LightsMerge => vec![],
+            Pass::LightsShade { .. } | Pass::LightsMerge { .. } => vec![],
             Pass::AoFull { estimator: e, bent } => {
                 [&estimator[..], &sphere(e)[..], &bent_constant(e, bent)[..]].concat()
             }

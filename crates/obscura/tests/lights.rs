@@ -558,3 +558,105 @@ fn shading_the_aos_prepared_buffer_creates_nothing_per_frame() {
     let e = relative_rms(&got, &want, &mask);
     assert!(e < 0.02, "AO-prepared floor against exact normals: {e}");
 }
+
+/// The default AO plan (fused 2×2 deinterleaving) keeps its prepared buffer as layers; the
+/// shading reads them there and gives what it gives from the randomized plan's single
+/// texture (the same depth and normals, bit for bit), for every period; wrong layer sets
+/// are typed errors.
+#[test]
+fn shading_from_the_aos_layers_matches_shading_from_its_full_buffer() {
+    let _g = lock();
+    let c = ctx();
+    let f = frame(W, H);
+    let depth: Vec<f32> = scene(&f).iter().map(|v| v.x).collect();
+    let depth_tex = common::upload_r32(c, &depth, W, H);
+    let view = depth_tex.create_view(&Default::default());
+    let projection = Projection::Perspective {
+        fov_y: 60f32.to_radians(),
+        aspect: W as f32 / H as f32,
+        near: 0.1,
+        far: 100.0,
+    };
+    let input: AoInput = common::linear_input(&view, projection);
+    let params = AoParams::default();
+    let ls = lights(
+        120,
+        Vec3::new(-4.0, -0.8, -9.0),
+        Vec3::new(4.0, 3.0, -1.0),
+        6.0,
+        9,
+    );
+    for mode in [AoMode::Deinterleaved2, AoMode::Deinterleaved4] {
+        let mut full_ao = Ao::new(
+            &c.device,
+            AoOptions {
+                mode: AoMode::Randomized,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut layered_ao = Ao::new(
+            &c.device,
+            AoOptions {
+                mode,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let frame = full_ao.validate(&input, &params).unwrap();
+        for period in [1, 2, 4] {
+            let options = LightsOptions {
+                period,
+                ..Default::default()
+            };
+            let mut out = Vec::new();
+            for ao in [&mut full_ao, &mut layered_ao] {
+                let mut l = Lights::new(&c.device, options).unwrap();
+                c.run(|enc| {
+                    ao.record(&c.device, &c.queue, enc, &input, &params)?;
+                    let source = ao.prepared_source().expect("full resolution");
+                    l.record(&c.device, &c.queue, enc, source, &frame, &ls)
+                })
+                .unwrap();
+                out.push(c.read_f32(l.output().unwrap()).unwrap());
+            }
+            assert!(
+                matches!(
+                    layered_ao.prepared_source(),
+                    Some(obscura::Prepared::Layers { .. })
+                ),
+                "{mode:?} keeps layers"
+            );
+            assert_eq!(out[0], out[1], "{mode:?} period {period}");
+        }
+        // The layers as a single texture, or with the wrong split: typed errors.
+        let Some(obscura::Prepared::Layers { texture, split }) = layered_ao.prepared_source()
+        else {
+            unreachable!()
+        };
+        let mut l = Lights::new(&c.device, LightsOptions::default()).unwrap();
+        let mut enc = c.device.create_command_encoder(&Default::default());
+        for bad in [
+            obscura::Prepared::Full(texture),
+            obscura::Prepared::Layers {
+                texture,
+                split: 6 - split,
+            },
+            obscura::Prepared::Layers { texture, split: 3 },
+        ] {
+            let e = l.record(&c.device, &c.queue, &mut enc, bad, &frame, &ls);
+            assert!(
+                matches!(
+                    e,
+                    Err(Error::InvalidTexture {
+                        what: "prepared",
+                        ..
+                    }) | Err(Error::InvalidSetting { field: "split", .. })
+                ),
+                "{bad:?}: {e:?}"
+            );
+        }
+        drop(enc);
+        c.take_errors().unwrap();
+    }
+}
