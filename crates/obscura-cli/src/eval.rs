@@ -494,7 +494,7 @@ pub(crate) fn camera_for(job: &Job, mesh: &Mesh) -> Result<Camera> {
     Ok(cam)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }

@@ -5,7 +5,7 @@
 //! and its error is stated against the all-lights image. Writes pictures and a markdown
 //! table when asked.
 
-use crate::eval::{camera_for, Job, ViewArgs};
+use crate::eval::{camera_for, median, Job, ViewArgs};
 use crate::output::{save_png, write_text};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -298,7 +298,7 @@ fn view(
         .collect();
     let exposure = exposure(&images[0], &lit);
     for (i, &v) in variants.iter().enumerate() {
-        let ms = median(&mut times[i]);
+        let ms = median(std::mem::take(&mut times[i]));
         let error = relative_rms(&images[i], &images[0], &lit);
         let display = display_rms(&images[i], &images[0], exposure, &lit);
         rows.push(Row {
@@ -442,11 +442,6 @@ fn read_rgb(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>> 
         .chunks_exact(4)
         .map(|p| [p[0], p[1], p[2], p[3]])
         .collect())
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// RMS of the rgb difference over the mean rgb magnitude of `want`, over `mask`.

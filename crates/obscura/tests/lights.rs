@@ -26,15 +26,19 @@ fn lock() -> std::sync::MutexGuard<'static, ()> {
 const W: u32 = 61;
 const H: u32 = 43;
 
-fn frame(w: u32, h: u32) -> FrameUniforms {
-    let projection = Projection::Perspective {
+/// The tests' camera: 60° vertical field of view, `w` × `h` pixels.
+fn perspective(w: u32, h: u32) -> Projection {
+    Projection::Perspective {
         fov_y: 60f32.to_radians(),
         aspect: w as f32 / h as f32,
         near: 0.1,
         far: 100.0,
-    };
+    }
+}
+
+fn frame(w: u32, h: u32) -> FrameUniforms {
     FrameUniforms::new(
-        &projection,
+        &perspective(w, h),
         DepthConvention::LinearView,
         None,
         Viewport::full(w, h),
@@ -109,14 +113,17 @@ fn run(
     let mut l = Lights::new(&c.device, options).unwrap();
     c.run(|enc| l.record(&c.device, &c.queue, enc, prepared, f, lights))
         .unwrap();
-    let read = |t: &wgpu::Texture| -> Vec<Vec3> {
-        c.read_f32(t)
-            .unwrap()
-            .chunks(4)
-            .map(|v| Vec3::new(v[0], v[1], v[2]))
-            .collect()
-    };
-    (read(l.output().unwrap()), read(l.raw().unwrap()))
+    (read_rgb(l.output().unwrap()), read_rgb(l.raw().unwrap()))
+}
+
+/// The rgb of an `Rgba32Float` texture.
+fn read_rgb(t: &wgpu::Texture) -> Vec<Vec3> {
+    ctx()
+        .read_f32(t)
+        .unwrap()
+        .chunks(4)
+        .map(|v| Vec3::new(v[0], v[1], v[2]))
+        .collect()
 }
 
 /// Largest per-pixel difference over the mean magnitude of `want` (lit pixels).
@@ -504,12 +511,7 @@ fn shading_the_aos_prepared_buffer_creates_nothing_per_frame() {
     .collect();
     let depth_tex = common::upload_r32(c, &depth, W, H);
     let view = depth_tex.create_view(&Default::default());
-    let projection = Projection::Perspective {
-        fov_y: 60f32.to_radians(),
-        aspect: W as f32 / H as f32,
-        near: 0.1,
-        far: 100.0,
-    };
+    let projection = perspective(W, H);
     let options = AoOptions {
         mode: AoMode::Randomized,
         ..Default::default()
@@ -540,12 +542,7 @@ fn shading_the_aos_prepared_buffer_creates_nothing_per_frame() {
     }
     assert!(counts.iter().all(|&n| n == counts[0]), "{counts:?}");
     // The floor's normals reconstructed from depth give the same light as exact ones.
-    let got: Vec<Vec3> = c
-        .read_f32(l.output().unwrap())
-        .unwrap()
-        .chunks(4)
-        .map(|v| Vec3::new(v[0], v[1], v[2]))
-        .collect();
+    let got = read_rgb(l.output().unwrap());
     let exact = prepared(
         &f,
         &[Plane {
@@ -571,12 +568,7 @@ fn shading_from_the_aos_layers_matches_shading_from_its_full_buffer() {
     let depth: Vec<f32> = scene(&f).iter().map(|v| v.x).collect();
     let depth_tex = common::upload_r32(c, &depth, W, H);
     let view = depth_tex.create_view(&Default::default());
-    let projection = Projection::Perspective {
-        fov_y: 60f32.to_radians(),
-        aspect: W as f32 / H as f32,
-        near: 0.1,
-        far: 100.0,
-    };
+    let projection = perspective(W, H);
     let input: AoInput = common::linear_input(&view, projection);
     let params = AoParams::default();
     let ls = lights(
