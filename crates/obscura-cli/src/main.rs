@@ -7,6 +7,7 @@ mod eval;
 mod lights;
 mod output;
 mod render;
+mod ssdo;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

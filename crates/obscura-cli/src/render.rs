@@ -371,6 +371,16 @@ pub struct RenderArgs {
     /// budget.csv and budget.svg to --out-dir.
     #[arg(long, value_name = "MS", requires = "orbit")]
     pub budget_ms: Option<f64>,
+    /// Also write screen-space directional occlusion with one diffuse bounce (obscura's
+    /// `Ssdo`): the scene's albedo (glTF base colour factors, OBJ `Kd`) lit by --env
+    /// through the AO's bent normals (GTAO, HBAO; the normal otherwise), plus the light
+    /// its occluders bounce. .png (sRGB, clamped at 1) or .exr (linear float RGB).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["depth", "msaa", "orbit"])]
+    pub ssdo: Option<PathBuf>,
+    /// The environment of --ssdo: sky (a daylight gradient), white, constant:R,G,B,
+    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file.
+    #[arg(long, default_value = "sky", requires = "ssdo")]
+    pub env: String,
 }
 
 fn parse_bits(s: &str) -> Result<u8, String> {
@@ -440,6 +450,18 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
         }
         check_vectors_path(p)?;
     }
+    if let Some(p) = &a.ssdo {
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("png" | "exr")) {
+            bail!("--ssdo writes .png or .exr, got `{}`", p.display());
+        }
+        if a.resolution.resolution != obscura::Resolution::Full {
+            bail!("--ssdo reads the AO's full-resolution depth and normals: use --resolution full");
+        }
+    }
     options(a).validate()?;
     params(a, 1.0).validate()?;
     if let Some(r) = a.radius {
@@ -459,7 +481,8 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
         } else {
             0
         },
-        bent_normals: a.bent_normals_out.is_some(),
+        bent_normals: a.bent_normals_out.is_some()
+            || (a.ssdo.is_some() && Estimator::from(a.quality.estimator).has_bent_normals()),
         ..a.quality.samples.options(a.quality.estimator.into())
     })
 }
@@ -625,10 +648,12 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let (gbuffer, msaa_depth);
     let input = if a.msaa {
         msaa_depth = raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+        gbuffer = None;
         msaa_depth.ao_input(&cam)
     } else {
-        gbuffer = raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
-        gbuffer.ao_input(&cam, a.normals == NormalSource::Gbuffer)
+        gbuffer = Some(raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?);
+        let g = gbuffer.as_ref().context("no G-buffer")?;
+        g.ao_input(&cam, a.normals == NormalSource::Gbuffer)
     };
     eprintln!(
         "g-buffer: {}x{}{} in {:.1} ms (includes pipeline creation)",
@@ -645,7 +670,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let options = options(a);
     let params = params(a, radius);
     let mut ao = Ao::new(&ctx.device, options)?;
-    ao.validate(&input, &params)?;
+    let frame = ao.validate(&input, &params)?;
     eprintln!(
         "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
         options.estimator.name(),
@@ -689,6 +714,23 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         let (bent, w, h) = read_bent_normals(&ctx, &ao)?;
         save_vectors(path, &bent, w, h)?;
         eprintln!("wrote {} ({w}x{h})", path.display());
+    }
+    if let (Some(path), Some(g)) = (&a.ssdo, &gbuffer) {
+        let env = crate::ssdo::parse_env(&a.env)?;
+        let lighting = crate::ssdo::lighting(&env, &cam);
+        let options = obscura::SsdoOptions::default();
+        let (rgb, ms) = crate::ssdo::shade(&ctx, &ao, g, &frame, &lighting, options, a.runs)?;
+        eprintln!(
+            "ssdo: env {}, bounce {} slices × {} steps per pixel over {}×{} pixel classes + merge: median {ms:.2} ms over {} runs (after the AO)",
+            a.env,
+            options.directions,
+            options.steps,
+            options.period,
+            options.period,
+            a.runs
+        );
+        crate::ssdo::save_radiance(path, &rgb, a.width, a.height)?;
+        eprintln!("wrote {}", path.display());
     }
 
     if a.depth_out.is_some() || a.normals_out.is_some() {

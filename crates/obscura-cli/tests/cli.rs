@@ -1276,3 +1276,190 @@ fn lights_reads_a_lights_file_and_refuses_bad_ones() {
     }
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// The built-in scene is white (no materials): under a constant sky L every open surface
+/// reflects L, and where occluders hide the sky they bounce L back (their own albedo 1 ×
+/// L), so the whole image stays near L (a furnace): SSDO's direct light and its bounce
+/// must add up. Checked on the 8-bit sRGB image of L = 0.5 (sRGB 188).
+#[test]
+fn render_writes_ssdo_colour_images_that_pass_a_furnace_test() {
+    let d = scratch("ssdo");
+    let (ao, png, exr) = (d.join("ao.png"), d.join("ssdo.png"), d.join("ssdo.exr"));
+    let out = obscura(&[
+        "render",
+        "--width",
+        "192",
+        "--height",
+        "108",
+        "--runs",
+        "1",
+        "--out",
+        s(&ao),
+        "--ssdo",
+        s(&png),
+        "--env",
+        "constant:0.5,0.5,0.5",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("ssdo:") && err.contains("median"), "{err}");
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (192, 108));
+    let mut surface: Vec<u8> = img.pixels().filter(|p| p[0] > 0).map(|p| p[1]).collect();
+    surface.sort_unstable();
+    let n = surface.len();
+    assert!(n > 192 * 108 / 2, "{n} surface pixels");
+    let (p05, p50, p95) = (surface[n / 20], surface[n / 2], surface[n - n / 20 - 1]);
+    assert!(
+        (184..=192).contains(&p50) && p05 >= 160 && p95 <= 215,
+        "surface values 5%/50%/95%: {p05}/{p50}/{p95}, want about 188"
+    );
+    // A gradient sky to linear EXR: brighter facing up than facing sideways.
+    let out = obscura(&[
+        "render",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--runs",
+        "1",
+        "--out",
+        s(&ao),
+        "--ssdo",
+        s(&exr),
+        "--env",
+        "gradient:1,1,1:0,0,0",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let f = image::open(&exr).unwrap().to_rgb32f();
+    assert_eq!(f.dimensions(), (96, 54));
+    assert!(f
+        .pixels()
+        .all(|p| p.0.iter().all(|v| v.is_finite() && *v >= 0.0)));
+    // The floor (bottom centre) faces up: 1/2 + 1/2 · ⅔ ≈ 0.83 where open.
+    let floor = f.get_pixel(60, 50).0[0];
+    assert!((0.6..0.95).contains(&floor), "floor {floor}");
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn ssdo_rejects_bad_input() {
+    let d = scratch("ssdo-bad");
+    let ao = d.join("ao.png");
+    let bad_map = d.join("sky.hdr");
+    std::fs::write(&bad_map, b"not an image").unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec!["--ssdo".into(), s(&d.join("x.jpg")).into()],
+            "writes .png or .exr",
+        ),
+        (
+            vec![
+                "--ssdo".into(),
+                s(&d.join("x.png")).into(),
+                "--env".into(),
+                "purple".into(),
+            ],
+            "equirectangular",
+        ),
+        (
+            vec![
+                "--ssdo".into(),
+                s(&d.join("x.png")).into(),
+                "--env".into(),
+                s(&bad_map).into(),
+            ],
+            "cannot read the environment map",
+        ),
+        (
+            vec![
+                "--ssdo".into(),
+                s(&d.join("x.png")).into(),
+                "--env".into(),
+                "constant:1,nan,1".into(),
+            ],
+            "finite",
+        ),
+        (
+            vec![
+                "--ssdo".into(),
+                s(&d.join("x.png")).into(),
+                "--resolution".into(),
+                "half".into(),
+            ],
+            "--resolution full",
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["render", "--width", "64", "--height", "48", "--out", s(&ao)];
+        args.extend(extra.iter().map(String::as_str));
+        let out = obscura(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!d.join("x.png").exists() && !d.join("x.jpg").exists());
+    }
+    let out = obscura(&["eval", "--ssdo", "--view", "cornell", "--albedo-scale", "2"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("--albedo-scale"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+/// On the Cornell box (red and green walls) SSDO with its bounce is closer to the ray
+/// tracer extended to the same sky and one bounce than AO multiplied onto the sky's light.
+#[test]
+fn eval_ssdo_beats_ao_times_the_environment_on_the_cornell_box() {
+    let d = scratch("eval-ssdo");
+    let (report, cache) = (d.join("report"), d.join("cache"));
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
+    let out = obscura(&[
+        "eval",
+        "--ssdo",
+        "--view",
+        "cornell",
+        "--scenes-dir",
+        scenes,
+        "--modes",
+        "randomized",
+        "--width",
+        "160",
+        "--height",
+        "100",
+        "--rays",
+        "256",
+        "--runs",
+        "1",
+        "--report",
+        s(&report),
+        "--cache",
+        s(&cache),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let md = std::fs::read_to_string(report.join("index.md")).unwrap();
+    let rmse = |variant: &str| -> f64 {
+        md.lines()
+            .find(|l| {
+                l.starts_with("| cornell |") && l.split('|').nth(3).map(str::trim) == Some(variant)
+            })
+            .and_then(|l| l.split('|').nth(4))
+            .and_then(|c| c.trim().parse().ok())
+            .unwrap_or_else(|| panic!("no {variant} row in {md}"))
+    };
+    let (ao, bounce) = (
+        rmse("AO × E(n)"),
+        rmse("SSDO + bounce, 4×4 interleaved + merge"),
+    );
+    assert!(bounce > 0.0 && bounce < 0.2, "{md}");
+    assert!(bounce < ao, "SSDO + bounce {bounce} against AO × E(n) {ao}");
+    assert!(report.join("cornell-truth.png").exists());
+    std::fs::remove_dir_all(d).unwrap();
+}

@@ -22,12 +22,14 @@ struct Node {
 pub struct Bvh {
     nodes: Vec<Node>,
     tris: Vec<Tri>,
+    /// Each reordered triangle's index in the list given to [`Bvh::new`].
+    ids: Vec<u32>,
 }
 
 const LEAF: usize = 4;
 
-fn bounds(tris: &[Tri]) -> (Vec3, Vec3) {
-    tris.iter().flatten().fold(
+fn bounds<'a>(tris: impl Iterator<Item = &'a Tri>) -> (Vec3, Vec3) {
+    tris.flatten().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(a, b), p| (a.min(*p), b.max(*p)),
     )
@@ -39,13 +41,21 @@ fn centroid(t: &Tri) -> Vec3 {
 
 impl Bvh {
     /// Builds over `tris` (degenerate triangles are kept; they are never hit).
-    pub fn new(mut tris: Vec<Tri>) -> Self {
+    pub fn new(tris: Vec<Tri>) -> Self {
         let mut nodes = Vec::with_capacity(2 * tris.len() / LEAF + 1);
-        if !tris.is_empty() {
-            let n = tris.len();
-            build(&mut nodes, &mut tris, 0, n);
+        let mut items: Vec<(Tri, u32)> = tris.into_iter().zip(0..).collect();
+        if !items.is_empty() {
+            let n = items.len();
+            build(&mut nodes, &mut items, 0, n);
         }
-        Bvh { nodes, tris }
+        let (tris, ids) = items.into_iter().unzip();
+        Bvh { nodes, tris, ids }
+    }
+
+    /// The index, in the list given to [`Bvh::new`], of triangle `i` as numbered by
+    /// [`Bvh::closest`].
+    pub fn original_index(&self, i: u32) -> u32 {
+        self.ids[i as usize]
     }
 
     /// Triangle count.
@@ -105,9 +115,9 @@ impl Bvh {
 
 /// Builds the subtree over `tris[first..first + count]`; returns its root's index. The
 /// left child of an inner node is the next node; the right child's index is stored.
-fn build(nodes: &mut Vec<Node>, tris: &mut [Tri], first: usize, count: usize) -> u32 {
+fn build(nodes: &mut Vec<Node>, tris: &mut [(Tri, u32)], first: usize, count: usize) -> u32 {
     let idx = nodes.len();
-    let (min, max) = bounds(&tris[first..first + count]);
+    let (min, max) = bounds(tris[first..first + count].iter().map(|t| &t.0));
     nodes.push(Node {
         min,
         max,
@@ -118,7 +128,7 @@ fn build(nodes: &mut Vec<Node>, tris: &mut [Tri], first: usize, count: usize) ->
         return idx as u32;
     }
     let slice = &mut tris[first..first + count];
-    let (cmin, cmax) = slice.iter().map(centroid).fold(
+    let (cmin, cmax) = slice.iter().map(|t| centroid(&t.0)).fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(a, b), c| (a.min(c), b.max(c)),
     );
@@ -131,7 +141,9 @@ fn build(nodes: &mut Vec<Node>, tris: &mut [Tri], first: usize, count: usize) ->
         2
     };
     let mid = count / 2;
-    slice.select_nth_unstable_by(mid, |a, b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
+    slice.select_nth_unstable_by(mid, |a, b| {
+        centroid(&a.0)[axis].total_cmp(&centroid(&b.0)[axis])
+    });
     build(nodes, tris, first, mid);
     let right = build(nodes, tris, first + mid, count - mid);
     nodes[idx].start_or_right = right;
@@ -206,8 +218,13 @@ mod tests {
                 .filter_map(|t| intersect(t, o, d))
                 .filter(|&t| t < 4.0)
                 .fold(None, |m: Option<f32>, t| Some(m.map_or(t, |m| m.min(t))));
-            let got = bvh.closest(o, d, 4.0).map(|h| h.0);
-            assert_eq!(got, brute);
+            let got = bvh.closest(o, d, 4.0);
+            assert_eq!(got.map(|h| h.0), brute);
+            // The hit triangle is found again in the input list by its original index.
+            if let Some((t, i)) = got {
+                let original = &tris[bvh.original_index(i) as usize];
+                assert_eq!(intersect(original, o, d), Some(t));
+            }
         }
     }
 }

@@ -115,9 +115,59 @@ pub fn store(path: &Path, r: &ReferenceAo) -> std::io::Result<()> {
     std::fs::rename(&tmp, path)
 }
 
+const FLOATS_MAGIC: &[u8; 8] = b"OBSFLT01";
+
+/// Reads `count` floats stored by [`store_floats`] for a `w` × `h` image; `None` if
+/// absent or not a valid file of that size.
+pub fn load_floats(path: &Path, w: u32, h: u32, count: usize) -> Option<Vec<f32>> {
+    let b = std::fs::read(path).ok()?;
+    if b.len() != 16 + 4 * count || &b[..8] != FLOATS_MAGIC {
+        return None;
+    }
+    let word = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    if word(8) != w || word(12) != h {
+        return None;
+    }
+    Some(
+        b[16..]
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect(),
+    )
+}
+
+/// Writes floats for a `w` × `h` image atomically (temporary file, then rename).
+pub fn store_floats(path: &Path, w: u32, h: u32, v: &[f32]) -> std::io::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut b = Vec::with_capacity(16 + 4 * v.len());
+    b.extend_from_slice(FLOATS_MAGIC);
+    b.extend_from_slice(&w.to_le_bytes());
+    b.extend_from_slice(&h.to_le_bytes());
+    for x in v {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
+    std::fs::write(&tmp, &b)?;
+    std::fs::rename(&tmp, path)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floats_round_trip_and_refuse_other_sizes() {
+        let dir = std::env::temp_dir().join(format!("obscura-floats-{}", std::process::id()));
+        let path = dir.join("f.bin");
+        let v = vec![1.0, -2.5, 3.25, 0.0, 7.0, 8.0];
+        store_floats(&path, 3, 2, &v).unwrap();
+        assert_eq!(load_floats(&path, 3, 2, 6), Some(v));
+        assert_eq!(load_floats(&path, 2, 3, 6), None);
+        assert_eq!(load_floats(&path, 3, 2, 7), None);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 
     #[test]
     fn round_trip_and_key_sensitivity() {

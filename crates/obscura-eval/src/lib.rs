@@ -11,7 +11,8 @@ pub mod views;
 
 pub use bvh::Bvh;
 pub use trace::{
-    ao_at, ao_bent_at, trace_view, Falloff, PixelSampling, ReferenceAo, TraceSettings,
+    ao_at, ao_bent_at, ssdo_at, trace_ssdo_view, trace_view, Falloff, PixelSampling, Primary,
+    PrimaryHit, ReferenceAo, ReferenceSsdo, TraceSettings,
 };
 
 /// The triangles of a mesh, for [`Bvh::new`].

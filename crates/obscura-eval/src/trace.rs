@@ -137,6 +137,78 @@ pub fn ao_bent_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> 
     ((1.0 - mean) as f32, (var / n_rays).sqrt() as f32, bent)
 }
 
+/// A primary ray's hit: the surface point and its normal (world space, facing the
+/// camera), its linear view depth and the hit triangle as [`Bvh::closest`] numbers it.
+#[derive(Clone, Copy, Debug)]
+pub struct PrimaryHit {
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub view_depth: f32,
+    pub triangle: u32,
+}
+
+/// Primary rays of a camera at a resolution, as the rasterizer samples them.
+#[derive(Clone, Copy, Debug)]
+pub struct Primary {
+    width: u32,
+    height: u32,
+    scale: [f32; 2],
+    ortho: bool,
+    view_to_world: Mat4,
+    world_to_view: Mat4,
+    near: f32,
+    far: f32,
+}
+
+impl Primary {
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Self {
+        let aspect = width as f32 / height as f32;
+        Self {
+            width,
+            height,
+            scale: camera.obscura_projection(aspect).ndc_to_view_scale(),
+            ortho: matches!(camera.projection, CameraProjection::Orthographic { .. }),
+            view_to_world: camera.view_matrix().inverse(),
+            world_to_view: camera.view_matrix(),
+            near: camera.near,
+            far: camera.far,
+        }
+    }
+
+    /// The surface through pixel position `at` (pixels, y down), if any within the clip
+    /// range.
+    pub fn hit(&self, bvh: &Bvh, at: [f32; 2]) -> Option<PrimaryHit> {
+        let ndc = [
+            at[0] / self.width as f32 * 2.0 - 1.0,
+            1.0 - at[1] / self.height as f32 * 2.0,
+        ];
+        let xy = Vec3::new(ndc[0] * self.scale[0], ndc[1] * self.scale[1], 0.0);
+        let (o_view, d_view) = if self.ortho {
+            (xy, Vec3::NEG_Z)
+        } else {
+            (Vec3::ZERO, xy + Vec3::NEG_Z)
+        };
+        let o = self.view_to_world.transform_point3(o_view);
+        let d = self.view_to_world.transform_vector3(d_view);
+        let (t, triangle) = bvh.closest(o, d, f32::INFINITY)?;
+        let point = o + d * t;
+        let view_depth = -self.world_to_view.transform_point3(point).z;
+        if view_depth < self.near || view_depth > self.far {
+            return None; // clipped by the rasterizer too
+        }
+        let mut normal = bvh.normal(triangle).normalize_or_zero();
+        if normal.dot(d) > 0.0 {
+            normal = -normal;
+        }
+        Some(PrimaryHit {
+            point,
+            normal,
+            view_depth,
+            triangle,
+        })
+    }
+}
+
 /// One traced row: AO, depth, standard error (−1 on sky) and bent normal per pixel.
 type Row = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<[f32; 3]>);
 
@@ -153,11 +225,8 @@ pub fn trace_view(
     s: &TraceSettings,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> ReferenceAo {
-    let aspect = width as f32 / height as f32;
-    let scale = camera.obscura_projection(aspect).ndc_to_view_scale();
-    let view_to_world: Mat4 = camera.view_matrix().inverse();
+    let primary = Primary::new(camera, width, height);
     let world_to_view = camera.view_matrix();
-    let ortho = matches!(camera.projection, CameraProjection::Orthographic { .. });
     let done = AtomicUsize::new(0);
     let rows: Vec<Row> = (0..height)
         .into_par_iter()
@@ -172,36 +241,10 @@ pub fn trace_view(
                     .normalize_or_zero()
                     .to_array()
             };
-            // The surface point, normal and view depth through pixel position `at`.
             let primary = |at: [f32; 2]| {
-                let ndc = [
-                    at[0] / width as f32 * 2.0 - 1.0,
-                    1.0 - at[1] / height as f32 * 2.0,
-                ];
-                let (o_view, d_view) = if ortho {
-                    (
-                        Vec3::new(ndc[0] * scale[0], ndc[1] * scale[1], 0.0),
-                        Vec3::NEG_Z,
-                    )
-                } else {
-                    (
-                        Vec3::ZERO,
-                        Vec3::new(ndc[0] * scale[0], ndc[1] * scale[1], -1.0),
-                    )
-                };
-                let o = view_to_world.transform_point3(o_view);
-                let d = view_to_world.transform_vector3(d_view);
-                let (t, tri) = bvh.closest(o, d, f32::INFINITY)?;
-                let p = o + d * t;
-                let view_depth = -world_to_view.transform_point3(p).z;
-                if view_depth < camera.near || view_depth > camera.far {
-                    return None; // clipped by the rasterizer too
-                }
-                let mut n = bvh.normal(tri).normalize_or_zero();
-                if n.dot(d) > 0.0 {
-                    n = -n;
-                }
-                Some((p, n, view_depth))
+                primary
+                    .hit(bvh, at)
+                    .map(|h| (h.point, h.normal, h.view_depth))
             };
             for x in 0..width {
                 let seed = y * width + x;
@@ -270,5 +313,134 @@ pub fn trace_view(
         }
     }
     out.mean_std_error = if n == 0 { 0.0 } else { (se / n as f64) as f32 };
+    out
+}
+
+/// The reference of screen-space directional occlusion ([`obscura::Ssdo`]) for one view:
+/// outgoing diffuse radiance per pixel, linear rgb.
+#[derive(Clone, Debug)]
+pub struct ReferenceSsdo {
+    pub width: u32,
+    pub height: u32,
+    /// `albedo · E`, 0 on sky.
+    pub radiance: Vec<[f32; 3]>,
+    /// The pixel's albedo, 0 on sky.
+    pub albedo: Vec<[f32; 3]>,
+    /// Linear view depth, 0 on sky.
+    pub depth: Vec<f32>,
+}
+
+/// Radiance at surface point `p` (normal `n`, albedo `albedo`) lit by `env` within
+/// `s.radius` and one diffuse bounce: cosine-weighted rays (as [`ao_bent_at`]); a ray with
+/// no hit within the radius brings the environment's radiance along it (visibility within
+/// the radius, as the AO reference defines it); a ray that hits brings the hit surface's
+/// albedo times the environment's irradiance at its normal (facing the ray), unshadowed:
+/// the same single bounce [`obscura::Ssdo`] models. Returns `albedo · E`.
+#[allow(clippy::too_many_arguments)]
+pub fn ssdo_at(
+    bvh: &Bvh,
+    triangle_albedo: &[[f32; 3]],
+    env: &obscura::Environment,
+    irradiance: &obscura::IrradianceSh,
+    p: Vec3,
+    n: Vec3,
+    albedo: Vec3,
+    s: &TraceSettings,
+    seed: u32,
+) -> Vec3 {
+    let (t, b) = basis(n);
+    let rot = (
+        hash(seed) as f32 / 4294967296.0,
+        hash(seed ^ 0x9e37_79b9) as f32 / 4294967296.0,
+    );
+    let origin = p + n * (1e-4 * s.radius + 4.0 * f32::EPSILON * p.abs().max_element());
+    let mut e = Vec3::ZERO;
+    for i in 0..s.rays {
+        let u1 = ((i as f32 + 0.5) / s.rays as f32 + rot.0).fract();
+        let u2 = (radical_inverse(i) + rot.1).fract();
+        let r = u1.sqrt();
+        let phi = std::f32::consts::TAU * u2;
+        let dir = t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt();
+        e += match bvh.closest(origin, dir, s.radius) {
+            None => Vec3::from(env.radiance(dir.to_array())),
+            Some((_, tri)) => {
+                let mut hn = bvh.normal(tri).normalize_or_zero();
+                if hn.dot(dir) > 0.0 {
+                    hn = -hn;
+                }
+                let a = triangle_albedo
+                    .get(bvh.original_index(tri) as usize)
+                    .copied()
+                    .unwrap_or(obscura_scene::DEFAULT_ALBEDO);
+                Vec3::from(a) * Vec3::from(irradiance.eval(hn.to_array()))
+            }
+        };
+    }
+    albedo * e / s.rays as f32
+}
+
+/// Traces [`ssdo_at`] for every pixel centre of `camera`'s view at `width` × `height`.
+/// `triangle_albedo` is per triangle in the order given to [`Bvh::new`].
+#[allow(clippy::too_many_arguments)]
+pub fn trace_ssdo_view(
+    bvh: &Bvh,
+    triangle_albedo: &[[f32; 3]],
+    env: &obscura::Environment,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    s: &TraceSettings,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> ReferenceSsdo {
+    let primary = Primary::new(camera, width, height);
+    let irradiance = env.irradiance_sh();
+    let done = AtomicUsize::new(0);
+    type SsdoRow = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<f32>);
+    let rows: Vec<SsdoRow> = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let mut radiance = vec![[0.0; 3]; width as usize];
+            let mut albedo = vec![[0.0; 3]; width as usize];
+            let mut depth = vec![0.0; width as usize];
+            for x in 0..width {
+                let Some(h) = primary.hit(bvh, [x as f32 + 0.5, y as f32 + 0.5]) else {
+                    continue;
+                };
+                let a = triangle_albedo
+                    .get(bvh.original_index(h.triangle) as usize)
+                    .copied()
+                    .unwrap_or(obscura_scene::DEFAULT_ALBEDO);
+                let l = ssdo_at(
+                    bvh,
+                    triangle_albedo,
+                    env,
+                    &irradiance,
+                    h.point,
+                    h.normal,
+                    Vec3::from(a),
+                    s,
+                    y * width + x,
+                );
+                radiance[x as usize] = l.to_array();
+                albedo[x as usize] = a;
+                depth[x as usize] = h.view_depth;
+            }
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(k, height as usize);
+            (radiance, albedo, depth)
+        })
+        .collect();
+    let mut out = ReferenceSsdo {
+        width,
+        height,
+        radiance: Vec::with_capacity((width * height) as usize),
+        albedo: Vec::with_capacity((width * height) as usize),
+        depth: Vec::with_capacity((width * height) as usize),
+    };
+    for (r, a, d) in rows {
+        out.radiance.extend(r);
+        out.albedo.extend(a);
+        out.depth.extend(d);
+    }
     out
 }

@@ -229,3 +229,65 @@ fn bent_normal_in_an_inner_corner_matches_closed_form() {
         );
     }
 }
+
+/// The SSDO reference at a floor point `a·R` from a red wall (x = 0), lit by a constant
+/// sky L = 1. Rays with −ω.x > a hit the wall within R (the corner test's closed form for
+/// their cosine-weighted share c), and bring the wall's albedo times its unshadowed
+/// irradiance, L; the rest bring L. So radiance = albedo_floor · ((1 − c) + c · red).
+/// And on the open floor under a gradient L(d) = m + h·d.y: albedo · (m + ⅔ h).
+#[test]
+fn ssdo_reference_matches_the_closed_form_beside_a_wall_and_under_a_gradient() {
+    use obscura::Environment;
+    use obscura_eval::ssdo_at;
+    let wall = quad(
+        Vec3::new(0.0, 0.0, -L),
+        Vec3::new(0.0, L, -L),
+        Vec3::new(0.0, L, L),
+        Vec3::new(0.0, 0.0, L),
+    );
+    // Floor white, wall red (the order of the triangles given to the hierarchy).
+    let albedo = [[1.0; 3], [1.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let bvh = Bvh::new([floor(), wall].concat());
+    let env = Environment::Constant([1.0; 3]);
+    let irradiance = env.irradiance_sh();
+    let r = 1.5;
+    let floor_albedo = Vec3::new(0.5, 0.6, 0.7);
+    for a in [0.0005f32, 0.3, 0.7] {
+        let got = ssdo_at(
+            &bvh,
+            &albedo,
+            &env,
+            &irradiance,
+            Vec3::new(a * r, 0.0, 0.0),
+            Vec3::Y,
+            floor_albedo,
+            &settings(r),
+            5,
+        );
+        let c = (a.acos() - a * (1.0 - a * a).sqrt()) / PI;
+        let want = floor_albedo * (Vec3::splat(1.0 - c) + c * Vec3::new(1.0, 0.0, 0.0));
+        assert!(
+            (got - want).abs().max_element() < 0.01,
+            "a={a}: {got} vs {want}"
+        );
+    }
+    let (sky, ground) = (Vec3::new(1.0, 0.8, 0.5), Vec3::new(0.2, 0.1, 0.0));
+    let env = Environment::Gradient {
+        sky: sky.to_array(),
+        ground: ground.to_array(),
+    };
+    let open = Bvh::new(floor().to_vec());
+    let got = ssdo_at(
+        &open,
+        &albedo,
+        &env,
+        &env.irradiance_sh(),
+        Vec3::new(0.2, 0.0, 0.1),
+        Vec3::Y,
+        Vec3::ONE,
+        &settings(r),
+        9,
+    );
+    let want = (sky + ground) / 2.0 + (sky - ground) / 2.0 * (2.0 / 3.0);
+    assert!((got - want).abs().max_element() < 0.01, "{got} vs {want}");
+}

@@ -1,5 +1,5 @@
 //! Rasterizes a [`Mesh`] seen by a [`Camera`] into a G-buffer: `Depth32Float` depth
-//! (standard convention) and `Rgba16Float` view-space normals.
+//! (standard convention), `Rgba16Float` view-space normals and `Rgba8Unorm` linear albedo.
 
 use crate::{Camera, Mesh, SceneError};
 use obscura::GpuContext;
@@ -9,6 +9,9 @@ use wgpu::util::DeviceExt;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Normal format of the G-buffer (view-space xyz, signed).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Albedo format of the G-buffer: the mesh's linear albedo (not sRGB-encoded), alpha 1 on
+/// surfaces and 0 on sky.
+pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Samples per pixel of [`GBufferRenderer::render_msaa_depth`]: 4, the count every WebGPU
 /// device supports for depth formats.
 pub const MSAA_SAMPLES: u32 = 4;
@@ -17,6 +20,7 @@ pub const MSAA_SAMPLES: u32 = 4;
 #[derive(Debug)]
 pub struct GpuMesh {
     vertices: wgpu::Buffer,
+    colours: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
 }
@@ -28,6 +32,8 @@ pub struct GBuffer {
     pub depth_view: wgpu::TextureView,
     pub normals: wgpu::Texture,
     pub normals_view: wgpu::TextureView,
+    pub albedo: wgpu::Texture,
+    pub albedo_view: wgpu::TextureView,
     pub width: u32,
     pub height: u32,
 }
@@ -113,7 +119,7 @@ impl GBufferRenderer {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let normal_target = [Some(NORMAL_FORMAT.into())];
+        let targets = [Some(NORMAL_FORMAT.into()), Some(ALBEDO_FORMAT.into())];
         let make = |samples: u32| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label,
@@ -122,11 +128,18 @@ impl GBufferRenderer {
                     module: &module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: 12,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                    })],
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 12,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 12,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &wgpu::vertex_attr_array![1 => Float32x3],
+                        }),
+                    ],
                 },
                 primitive: wgpu::PrimitiveState {
                     cull_mode: None,
@@ -148,7 +161,7 @@ impl GBufferRenderer {
                     module: &module,
                     entry_point: Some("fs_main"),
                     compilation_options: Default::default(),
-                    targets: &normal_target,
+                    targets: &targets,
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -187,6 +200,11 @@ impl GBufferRenderer {
                 contents: bytemuck::cast_slice(&mesh.positions),
                 usage: wgpu::BufferUsages::VERTEX,
             }),
+            colours: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("mesh colours"),
+                contents: bytemuck::cast_slice(&mesh.vertex_colours()),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
             indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("mesh indices"),
                 contents: bytemuck::cast_slice(&mesh.indices),
@@ -208,14 +226,24 @@ impl GBufferRenderer {
         self.set_camera(ctx, camera, width, height)?;
         let depth = target(ctx, width, height, DEPTH_FORMAT, 1);
         let normals = target(ctx, width, height, NORMAL_FORMAT, 1);
+        let albedo = target(ctx, width, height, ALBEDO_FORMAT, 1);
         let depth_view = depth.create_view(&Default::default());
         let normals_view = normals.create_view(&Default::default());
-        self.draw(ctx, mesh, &self.pipeline, Some(&normals_view), &depth_view)?;
+        let albedo_view = albedo.create_view(&Default::default());
+        self.draw(
+            ctx,
+            mesh,
+            &self.pipeline,
+            Some((&normals_view, &albedo_view)),
+            &depth_view,
+        )?;
         Ok(GBuffer {
             depth,
             depth_view,
             normals,
             normals_view,
+            albedo,
+            albedo_view,
             width,
             height,
         })
@@ -272,7 +300,7 @@ impl GBufferRenderer {
         ctx: &GpuContext,
         mesh: &GpuMesh,
         pipeline: &wgpu::RenderPipeline,
-        normals_view: Option<&wgpu::TextureView>,
+        colour_views: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
         depth_view: &wgpu::TextureView,
     ) -> Result<(), SceneError> {
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -283,25 +311,37 @@ impl GBufferRenderer {
                 resource: self.camera.as_entire_binding(),
             }],
         });
-        let color = normals_view.map(|view| wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color {
-                    r: 0.0,
-                    g: 0.0,
-                    b: 1.0,
-                    a: 0.0,
-                }),
-                store: wgpu::StoreOp::Store,
-            },
-        });
+        let attachment = |view, clear| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        // Sky: normal +z, albedo 0 (alpha 0).
+        let sky_normal = wgpu::Color {
+            r: 0.0,
+            g: 0.0,
+            b: 1.0,
+            a: 0.0,
+        };
+        let color: Vec<_> = colour_views
+            .map(|(n, a)| {
+                vec![
+                    attachment(n, sky_normal),
+                    attachment(a, wgpu::Color::TRANSPARENT),
+                ]
+            })
+            .unwrap_or_default();
         ctx.run(|enc| {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("gbuffer"),
                 // The depth-only pipeline has no colour target at all (not a `None` one).
-                color_attachments: &color.map(Some).into_iter().collect::<Vec<_>>(),
+                color_attachments: &color,
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: depth_view,
                     depth_ops: Some(wgpu::Operations {
@@ -317,6 +357,7 @@ impl GBufferRenderer {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_vertex_buffer(1, mesh.colours.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);
             Ok(())
@@ -342,10 +383,10 @@ fn target(
             wgpu::TextureUsages::empty()
         };
     ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(if format == DEPTH_FORMAT {
-            "gbuffer depth"
-        } else {
-            "gbuffer normals"
+        label: Some(match format {
+            DEPTH_FORMAT => "gbuffer depth",
+            NORMAL_FORMAT => "gbuffer normals",
+            _ => "gbuffer albedo",
         }),
         size: wgpu::Extent3d {
             width,

@@ -8,8 +8,8 @@ pub mod gbuffer;
 pub mod mesh;
 
 pub use camera::{Camera, CameraProjection};
-pub use gbuffer::{GBuffer, GBufferRenderer, GpuMesh, MsaaDepth};
-pub use mesh::{Aabb, Mesh};
+pub use gbuffer::{GBuffer, GBufferRenderer, GpuMesh, MsaaDepth, ALBEDO_FORMAT};
+pub use mesh::{Aabb, Mesh, DEFAULT_ALBEDO};
 
 /// Errors from loading scenes and cameras.
 #[derive(Debug, thiserror::Error)]

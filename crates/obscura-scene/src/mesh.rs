@@ -1,5 +1,6 @@
 //! Triangle meshes: loading every mesh of a glTF 2.0 or OBJ file with node transforms
-//! applied, flattened into one indexed position list.
+//! applied, flattened into one indexed position list, with a diffuse albedo per vertex
+//! (glTF's base colour factor, OBJ's `Kd`; white where the file names none).
 
 use crate::SceneError;
 use glam::{Mat4, Vec3};
@@ -11,7 +12,14 @@ pub struct Mesh {
     pub positions: Vec<[f32; 3]>,
     /// Three indices per triangle, each `< positions.len()`.
     pub indices: Vec<u32>,
+    /// Linear diffuse albedo per vertex, aligned with `positions` (vertices missing here
+    /// are white, [`Mesh::vertex_colours`]). A vertex belongs to one primitive, so one
+    /// material: a triangle's albedo is its first vertex's ([`Mesh::triangle_colours`]).
+    pub colours: Vec<[f32; 3]>,
 }
+
+/// The albedo of a surface whose file names none: glTF's default base colour factor.
+pub const DEFAULT_ALBEDO: [f32; 3] = [1.0; 3];
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,9 +54,45 @@ impl Mesh {
         Some(Aabb { min, max })
     }
 
+    /// Albedo per vertex, one per position ([`DEFAULT_ALBEDO`] past `colours`).
+    pub fn vertex_colours(&self) -> Vec<[f32; 3]> {
+        (0..self.positions.len())
+            .map(|i| self.colours.get(i).copied().unwrap_or(DEFAULT_ALBEDO))
+            .collect()
+    }
+
+    /// Albedo per triangle: its first vertex's.
+    pub fn triangle_colours(&self) -> Vec<[f32; 3]> {
+        self.indices
+            .chunks_exact(3)
+            .map(|t| {
+                self.colours
+                    .get(t[0] as usize)
+                    .copied()
+                    .unwrap_or(DEFAULT_ALBEDO)
+            })
+            .collect()
+    }
+
     /// Appends `positions` (transformed by `m`) and triangles `indices` (local to them),
-    /// skipping triangles with an out-of-range index or a non-finite vertex.
+    /// skipping triangles with an out-of-range index or a non-finite vertex; white.
     pub fn append(&mut self, m: Mat4, positions: &[[f32; 3]], indices: &[u32]) {
+        self.append_coloured(m, positions, indices, DEFAULT_ALBEDO);
+    }
+
+    /// [`Mesh::append`] with albedo `colour` (clamped to [0, 1]; NaN is 0).
+    pub fn append_coloured(
+        &mut self,
+        m: Mat4,
+        positions: &[[f32; 3]],
+        indices: &[u32],
+        colour: [f32; 3],
+    ) {
+        let colour = colour.map(|c| if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) });
+        // Earlier vertices appended without colours are white.
+        let n = self.positions.len();
+        self.colours.resize(n, DEFAULT_ALBEDO);
+        self.colours.resize(n + positions.len(), colour);
         let base = self.positions.len() as u32;
         self.positions.extend(
             positions
@@ -169,7 +213,8 @@ fn gltf_mesh(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
                         .collect(),
                     _ => continue, // points and lines occlude nothing
                 };
-                mesh.append(world, &pos, &tris);
+                let [r, g, b, _] = prim.material().pbr_metallic_roughness().base_color_factor();
+                mesh.append_coloured(world, &pos, &tris, [r, g, b]);
             }
         }
         stack.extend(node.children().map(|c| (c, world, depth + 1)));
@@ -260,14 +305,26 @@ fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
         ignore_points: true,
         ignore_lines: true,
     };
-    // Materials are irrelevant to AO: never load them.
-    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(text), &opts, |_| {
-        Ok((Vec::new(), Default::default()))
-    })
-    .map_err(|e| SceneError::Obj {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })?;
+    // Materials give the albedo (`Kd`). The library is read only from the OBJ's own folder,
+    // by file name, and a missing or malformed one leaves the surfaces white: AO needs
+    // no material, so a material problem never fails the load.
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let (models, materials) =
+        tobj::load_obj_buf(&mut std::io::Cursor::new(text), &opts, |mtl: &Path| {
+            let Some(name) = mtl.file_name() else {
+                return Ok((Vec::new(), Default::default()));
+            };
+            let Ok(bytes) = std::fs::read(dir.join(name)) else {
+                return Ok((Vec::new(), Default::default()));
+            };
+            tobj::load_mtl_buf(&mut std::io::Cursor::new(bytes))
+                .or_else(|_| Ok((Vec::new(), Default::default())))
+        })
+        .map_err(|e| SceneError::Obj {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+    let materials = materials.unwrap_or_default();
     let mut mesh = Mesh::default();
     for m in models {
         let pos: Vec<[f32; 3]> = m
@@ -276,7 +333,13 @@ fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
             .chunks_exact(3)
             .map(|c| [c[0], c[1], c[2]])
             .collect();
-        mesh.append(Mat4::IDENTITY, &pos, &m.mesh.indices);
+        let colour = m
+            .mesh
+            .material_id
+            .and_then(|i| materials.get(i))
+            .and_then(|mat| mat.diffuse)
+            .unwrap_or(DEFAULT_ALBEDO);
+        mesh.append_coloured(Mat4::IDENTITY, &pos, &m.mesh.indices, colour);
     }
     Ok(mesh)
 }

@@ -555,3 +555,71 @@ fn msaa_ao_matches_single_sample_ao_away_from_edges() {
         "MSAA vs single-sample away from edges: mean {mean:.5}, {big} of {count} beyond 0.05"
     );
 }
+
+/// Albedo comes from glTF base colour factors and OBJ `Kd` (white without a material or
+/// with a missing library), and the G-buffer's albedo target holds it per pixel.
+#[test]
+fn albedo_comes_from_materials_and_reaches_the_gbuffer() {
+    let _g = lock();
+    let dir = scratch("albedo");
+    // One large triangle in z = 0, material base colour (0.2, 0.4, 0.6).
+    let pos: [[f32; 3]; 3] = [[-10.0, -10.0, 0.0], [10.0, -10.0, 0.0], [0.0, 10.0, 0.0]];
+    std::fs::write(dir.join("tri.bin"), bytemuck::cast_slice(&pos)).unwrap();
+    let gltf = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+        "nodes":[{"mesh":0}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+        "materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.4,0.6,1.0]}}],
+        "buffers":[{"byteLength":36,"uri":"tri.bin"}],
+        "bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",
+            "min":[-10,-10,0],"max":[10,10,0]}]}"#;
+    std::fs::write(dir.join("tri.gltf"), gltf).unwrap();
+    let mesh = Mesh::load(&dir.join("tri.gltf")).unwrap();
+    assert_eq!(mesh.triangle_colours(), vec![[0.2, 0.4, 0.6]]);
+
+    // OBJ with a material library beside it, and one whose library is missing.
+    std::fs::write(dir.join("m.mtl"), "newmtl rust\nKd 0.9 0.1 0.2\n").unwrap();
+    let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl rust\nf 1 2 3\n";
+    std::fs::write(dir.join("m.obj"), obj).unwrap();
+    assert_eq!(
+        Mesh::load(&dir.join("m.obj")).unwrap().triangle_colours(),
+        vec![[0.9, 0.1, 0.2]]
+    );
+    std::fs::write(dir.join("lost.obj"), obj.replace("m.mtl", "lost.mtl")).unwrap();
+    assert_eq!(
+        Mesh::load(&dir.join("lost.obj"))
+            .unwrap()
+            .triangle_colours(),
+        vec![obscura_scene::DEFAULT_ALBEDO]
+    );
+    // The shared Cornell box: red and green walls.
+    let cornell = Mesh::load(&shared_scenes().join("cornell_box/cornell_box.obj")).unwrap();
+    let colours = cornell.triangle_colours();
+    assert!(colours.contains(&[1.0, 0.0, 0.0]) && colours.contains(&[0.0, 1.0, 0.0]));
+
+    // The G-buffer: the triangle's albedo in the middle, alpha 0 (sky) in a corner.
+    let c = ctx();
+    let raster = GBufferRenderer::new(&c.device);
+    let gm = raster.upload(c, &mesh).unwrap();
+    let cam = Camera {
+        eye: glam::Vec3::new(0.0, 0.0, 5.0),
+        target: glam::Vec3::ZERO,
+        up: glam::Vec3::Y,
+        projection: CameraProjection::Perspective { fov_y_deg: 90.0 },
+        near: 0.1,
+        far: 100.0,
+    };
+    let (w, h) = (32, 24);
+    let g = raster.render(c, &gm, &cam, w, h).unwrap();
+    let bytes = c.read_texture(&g.albedo).unwrap();
+    let at = |x: u32, y: u32| {
+        let i = ((y * w + x) * 4) as usize;
+        [bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]
+    };
+    let mid = at(w / 2, h / 2);
+    for (got, want) in mid.iter().zip([51u8, 102, 153, 255]) {
+        assert!(got.abs_diff(want) <= 1, "albedo {mid:?}");
+    }
+    assert_eq!(at(0, 0)[3], 0, "sky albedo {:?}", at(0, 0));
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -1,6 +1,7 @@
 // Ground-Truth AO (Jimenez, Wu, Pesce & Jarabo, "Practical Realtime Strategies for Accurate
 // Indirect Occlusion", 2016): the estimator only; composed like hbao.wgsl with an entry
-// fragment that provides `snap_offset` and `sample_depth`.
+// fragment that provides `snap_offset` and `sample_depth`, after gtao_arcs.wgsl (the
+// slice frame and the closed-form arcs, shared with ssdo_bounce.wgsl).
 //
 // For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep
 // the highest horizon (largest cos between the sample vector and the view vector V).
@@ -18,57 +19,6 @@
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
 override BENT_NORMALS: bool = false;
-
-const PI: f32 = 3.141592653589793;
-const HALF_PI: f32 = 1.5707963267948966;
-
-// acos with |error| <= 1e-4 rad on [-1, 1]: a square root and a cubic (Abramowitz & Stegun
-// 1964, 4.4.45: |error| <= 5e-5 on [0, 1]; acos(-x) = pi - acos(x)), cheaper than the
-// driver's acos. Mirror: `reference::fast_acos`, whose bound a test checks.
-fn fast_acos(x: f32) -> f32 {
-    let a = abs(x);
-    let r = sqrt(1.0 - a) * (ACOS_POLY[0] + a * (ACOS_POLY[1] + a * (ACOS_POLY[2] + a * ACOS_POLY[3])));
-    return select(r, PI - r, x < 0.0);
-}
-
-// One side's cosine-weighted visible arc (Jimenez et al., eq. 10): from the normal's angle
-// n to the horizon h = s * acos(c) (s = +1 or -1, the side), h clamped to the normal's
-// hemisphere. cos(2h - n) comes from the double-angle formulas, or is -cos(n) where the
-// clamp holds (h = n +- pi/2), so the slice needs no trigonometric call.
-fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let t = s * fast_acos(c) - n;
-    let h = n + clamp(t, -HALF_PI, HALF_PI);
-    let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
-    let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
-    return (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
-}
-
-// One side's share of the slice's bent normal (Jimenez et al. 2016, sec. 5: the cosine-
-// weighted mean of the unoccluded directions): the integral from 0 to the horizon h of
-// (sin t, cos t) sin t cos(t - n) dt, in (ortho, V) coordinates, with the measure |sin t|
-// of eq. 10 taken signed as there (the side's sign comes from the direction of
-// integration). Closed form from cos h and sin h, so no trigonometric call:
-//   ortho: cos n sin³h / 3 + sin n (2/3 - cos h + cos³h / 3)
-//   V:     cos n (1 - cos³h) / 3 + sin n sin³h / 3
-// h as in gtao_side: s * acos(c), clamped to n +- pi/2 (where cos h, sin h follow from n).
-fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
-    let t = s * fast_acos(c) - n;
-    var ch = c;
-    var sh = s * sqrt(max(1.0 - c * c, 0.0));
-    if t > HALF_PI {
-        ch = -sin_n;
-        sh = cos_n;
-    } else if t < -HALF_PI {
-        ch = sin_n;
-        sh = -cos_n;
-    }
-    let sh3 = sh * sh * sh;
-    let ch3 = ch * ch * ch;
-    return vec2<f32>(
-        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
-        cos_n * (1.0 - ch3) + sin_n * sh3,
-    ) / 3.0;
-}
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let d = centre.x;
@@ -97,25 +47,18 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         if i > 0u {
             dir = vec2<f32>(dir.x * turn.x - dir.y * turn.y, dir.x * turn.y + dir.y * turn.x);
         }
-        // The slice plane holds V and the screen direction (y flips from pixels to view).
-        let dir3 = vec3<f32>(dir.x, -dir.y, 0.0);
-        let ortho = dir3 - dot(dir3, v) * v;
-        let axis = normalize(cross(ortho, v));
-        // d(ortho)/d(angle), from d(dir3)/d(angle) = (-dir.y, -dir.x, 0).
-        let ddir3 = vec3<f32>(-dir.y, -dir.x, 0.0);
-        let dortho = ddir3 - dot(ddir3, v) * v;
-        let weight = abs(dot(dortho, axis)) / length(ortho);
+        let slice = gtao_slice(dir, v, normal);
+        let axis = slice.axis;
+        let weight = slice.weight;
         weights += weight;
-        let proj_n = normal - axis * dot(normal, axis);
-        let proj_len = length(proj_n);
+        let proj_len = slice.proj_len;
         if proj_len < 1e-6 {
             visibility += weight;
             continue;
         }
-        let cos_n = clamp(dot(proj_n, v) / proj_len, -1.0, 1.0);
-        let sgn = sign(dot(ortho, proj_n));
-        let n = sgn * fast_acos(cos_n);
-        let sin_n = sgn * sqrt(1.0 - cos_n * cos_n);
+        let n = slice.n;
+        let cos_n = slice.cos_n;
+        let sin_n = slice.sin_n;
         // Horizon cosines start at the tangent plane's (the normal's hemisphere edge):
         // cos(n + pi/2) and cos(n - pi/2).
         var hc0 = -sin_n;
@@ -164,7 +107,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         visibility += weight * proj_len * arcs;
         if BENT_NORMALS {
             let b = gtao_bent(hc0, 1.0, n, cos_n, sin_n) + gtao_bent(hc1, -1.0, n, cos_n, sin_n);
-            bent += weight * proj_len * (b.x * normalize(ortho) + b.y * v);
+            bent += weight * proj_len * (b.x * slice.ortho + b.y * v);
         }
     }
     if BENT_NORMALS {

@@ -819,6 +819,27 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(2, UNFILTERED, D2),
             storage_entry(3, LIT_FORMAT, D2),
         ],
+        Pass::SsdoBounce { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
+            texture_entry(2, UNFILTERED, D2),
+            wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                ..UNIFORM_ENTRY
+            },
+            storage_entry(4, LIT_FORMAT, D2),
+        ],
+        Pass::SsdoCombine { layers } => vec![
+            texture_entry(1, UNFILTERED, dim(layers)),
+            texture_entry(2, UNFILTERED, D2),
+            wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                ..UNIFORM_ENTRY
+            },
+            texture_entry(4, UNFILTERED, D2),
+            texture_entry(5, UNFILTERED, D2),
+            texture_entry(6, UNFILTERED, D2),
+            storage_entry(7, LIT_FORMAT, D2),
+        ],
         Pass::ResolveDepth => vec![
             wgpu::BindGroupLayoutEntry {
                 binding: 1,

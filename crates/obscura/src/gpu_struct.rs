@@ -17,8 +17,10 @@ wgsl_types! {
     [f32; 2] => "vec2<f32>",
     [u32; 2] => "vec2<u32>",
     [f32; 4] => "vec4<f32>",
+    [u32; 4] => "vec4<u32>",
     [[f32; 4]; 3] => "array<vec4<f32>, 3>",
     [[f32; 4]; 4] => "mat4x4<f32>",
+    [[f32; 4]; 9] => "array<vec4<f32>, 9>",
     [[f32; 4]; crate::jitter::PATTERN_COUNT] => "array<vec4<f32>, PATTERN_COUNT>",
 }
 

@@ -33,6 +33,7 @@ pub mod ao;
 pub mod budget;
 pub mod context;
 pub mod depth_map;
+pub mod environment;
 pub mod error;
 pub mod fuzz;
 pub mod gpu_struct;
@@ -44,11 +45,13 @@ pub mod noise;
 pub mod reference;
 pub mod settings;
 pub mod shader;
+pub mod ssdo;
 pub mod uniforms;
 
 pub use ao::{Ao, AoInput, ResourceCount, Timing};
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use depth_map::{DepthMap, Intrinsics};
+pub use environment::{Environment, EnvironmentMap, IrradianceSh};
 pub use error::{Error, Result};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
 pub use lights::{Lights, LightsOptions, PointLight, Prepared};
@@ -57,3 +60,4 @@ pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
     Preset, PyramidBuild, Resolution, Upsampler,
 };
+pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};

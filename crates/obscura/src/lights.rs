@@ -172,14 +172,14 @@ impl<'a> From<&'a wgpu::Texture> for Prepared<'a> {
 }
 
 impl Prepared<'_> {
-    fn texture(&self) -> &wgpu::Texture {
+    pub(crate) fn texture(&self) -> &wgpu::Texture {
         match *self {
             Prepared::Full(t) | Prepared::Layers { texture: t, .. } => t,
         }
     }
 
     /// 0 for one texture, else the split.
-    fn split(&self) -> u32 {
+    pub(crate) fn split(&self) -> u32 {
         match *self {
             Prepared::Full(_) => 0,
             Prepared::Layers { split, .. } => split,
@@ -187,7 +187,7 @@ impl Prepared<'_> {
     }
 
     /// Checks format, usage and size against the frame's `size`.
-    fn validate(&self, size: [u32; 2]) -> Result<()> {
+    pub(crate) fn validate(&self, size: [u32; 2]) -> Result<()> {
         let t = self.texture();
         let (want, layers) = match *self {
             Prepared::Full(_) => (size, 1),

@@ -523,7 +523,7 @@ pub fn hbao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
 }
 
 /// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
-/// `fast_acos` in shaders/gtao.wgsl.
+/// `fast_acos` in shaders/gtao_arcs.wgsl.
 fn fast_acos(x: f32) -> f32 {
     use crate::shader::ACOS_POLY as k;
     let a = x.abs();
@@ -535,7 +535,7 @@ fn fast_acos(x: f32) -> f32 {
     }
 }
 
-/// One side's visible arc of a GTAO slice; mirrors `gtao_side` in shaders/gtao.wgsl.
+/// One side's visible arc of a GTAO slice; mirrors `gtao_side` in shaders/gtao_arcs.wgsl.
 fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     use std::f32::consts::FRAC_PI_2;
     let t = s * fast_acos(c) - n;
@@ -550,7 +550,7 @@ fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
 }
 
 /// One side's share of a GTAO slice's bent normal in (ortho, V) coordinates; mirrors
-/// `gtao_bent` in shaders/gtao.wgsl (closed form there).
+/// `gtao_bent` in shaders/gtao_arcs.wgsl (closed form there).
 fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
     use std::f32::consts::FRAC_PI_2;
     let t = s * fast_acos(c) - n;
@@ -566,6 +566,49 @@ fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
         cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
         cos_n * (1.0 - ch3) + sin_n * sh3,
     ) / 3.0
+}
+
+/// One GTAO slice's frame; mirrors `GtaoSlice` in shaders/gtao_arcs.wgsl.
+struct GtaoSlice {
+    axis: Vec3,
+    /// Unit.
+    ortho: Vec3,
+    weight: f32,
+    proj_len: f32,
+    n: f32,
+    cos_n: f32,
+    sin_n: f32,
+}
+
+/// Mirrors `gtao_slice` in shaders/gtao_arcs.wgsl.
+fn gtao_slice(dir: [f32; 2], v: Vec3, normal: Vec3) -> GtaoSlice {
+    let dir3 = Vec3::new(dir[0], -dir[1], 0.0);
+    let ortho = dir3 - dir3.dot(v) * v;
+    let axis = ortho.cross(v).normalize();
+    let ddir3 = Vec3::new(-dir[1], -dir[0], 0.0);
+    let dortho = ddir3 - ddir3.dot(v) * v;
+    let weight = dortho.dot(axis).abs() / ortho.length();
+    let proj_n = normal - axis * normal.dot(axis);
+    let proj_len = proj_n.length();
+    let cos_n = (proj_n.dot(v) / proj_len.max(1e-30)).clamp(-1.0, 1.0);
+    // WGSL's sign(0) is 0 (f32::signum(0.0) is 1).
+    let x = ortho.dot(proj_n);
+    let sgn = if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    GtaoSlice {
+        axis,
+        ortho: ortho.normalize(),
+        weight,
+        proj_len,
+        n: sgn * fast_acos(cos_n),
+        cos_n,
+        sin_n: sgn * (1.0 - cos_n * cos_n).sqrt(),
+    }
 }
 
 /// GTAO of one pixel; mirrors `estimate` in shaders/gtao.wgsl.
@@ -596,31 +639,20 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
         if i > 0 {
             dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
         }
-        let dir3 = Vec3::new(dir[0], -dir[1], 0.0);
-        let ortho = dir3 - dir3.dot(v) * v;
-        let axis = ortho.cross(v).normalize();
-        let ddir3 = Vec3::new(-dir[1], -dir[0], 0.0);
-        let dortho = ddir3 - ddir3.dot(v) * v;
-        let weight = dortho.dot(axis).abs() / ortho.length();
+        let GtaoSlice {
+            axis,
+            ortho,
+            weight,
+            proj_len,
+            n,
+            cos_n,
+            sin_n,
+        } = gtao_slice(dir, v, normal);
         weights += weight;
-        let proj_n = normal - axis * normal.dot(axis);
-        let proj_len = proj_n.length();
         if proj_len < 1e-6 {
             visibility += weight;
             continue;
         }
-        let cos_n = (proj_n.dot(v) / proj_len).clamp(-1.0, 1.0);
-        // WGSL's sign(0) is 0 (f32::signum(0.0) is 1).
-        let x = ortho.dot(proj_n);
-        let sgn = if x > 0.0 {
-            1.0
-        } else if x < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
-        let n = sgn * fast_acos(cos_n);
-        let sin_n = sgn * (1.0 - cos_n * cos_n).sqrt();
         let mut hc = [-sin_n, sin_n];
         let mut ray = pattern[2] * step_px + 1.0;
         for _ in 0..px.steps {
@@ -654,7 +686,7 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
         let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
         visibility += weight * proj_len * arcs;
         let b = gtao_bent(hc[0], 1.0, n, cos_n, sin_n) + gtao_bent(hc[1], -1.0, n, cos_n, sin_n);
-        bent += weight * proj_len * (b.x * ortho.normalize() + b.y * v);
+        bent += weight * proj_len * (b.x * ortho + b.y * v);
     }
     let dirs = px.directions as f32;
     let per_slice = dirs * visibility / weights;
@@ -1333,6 +1365,154 @@ pub fn shade_lights(
 pub fn merge_lights(f: &FrameUniforms, prepared: &[Vec4], lit: &[Vec3], period: u32) -> Vec<Vec3> {
     let along_x = merge_lights_axis(f, prepared, lit, period, 0);
     merge_lights_axis(f, prepared, &along_x, period, 1)
+}
+
+/// Environment irradiance / π at view-space `n`; mirrors `env_irradiance` in
+/// shaders/ssdo_env.wgsl.
+fn env_irradiance(lighting: &crate::SsdoLighting, n: Vec3) -> Vec3 {
+    let m = lighting.view_to_world.map(Vec3::from);
+    let d = m[0] * n.x + m[1] * n.y + m[2] * n.z;
+    Vec3::from(lighting.irradiance.eval(d.to_array()))
+}
+
+/// SSDO's bounce (shaders/ssdo_bounce.wgsl): per pixel, GTAO's slices with the pattern
+/// of the pixel's class of `options.period`, each side's covered arc lit by its horizon
+/// sample (albedo × environment irradiance at its normal); 0 on sky. `albedo` is
+/// row-major at the frame's size.
+pub fn ssdo_bounce(
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    albedo: &[Vec3],
+    lighting: &crate::SsdoLighting,
+    options: &crate::SsdoOptions,
+) -> Vec<Vec3> {
+    use std::f32::consts::PI;
+    let px = Pixels {
+        f,
+        directions: options.directions,
+        steps: options.steps,
+        prepared,
+        lattice: 1,
+        pyramid: &[],
+        moments: &[],
+    };
+    let patterns = options.patterns();
+    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let mut out = Vec::with_capacity(prepared.len());
+    for y in 0..h {
+        for x in 0..w {
+            let p = [x, y];
+            let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
+                out.push(Vec3::ZERO);
+                continue;
+            };
+            let v = if f.perspective != 0 {
+                (-pos).normalize()
+            } else {
+                Vec3::Z
+            };
+            let pattern =
+                patterns[crate::layout::layer_of(x as u32, y as u32, options.period) as usize];
+            let step_px = f.step_px(d, options.steps);
+            let tolerance = crate::ssdo::SSDO_SELF_TOLERANCE * d
+                + crate::shader::NOISE_TOLERANCE_SIGMAS * f.depth_sigma(d);
+            let (ts, tc) = (PI / options.directions as f32).sin_cos();
+            let mut dir = [pattern[0], pattern[1]];
+            let (mut weights, mut bounce) = (0.0, Vec3::ZERO);
+            for i in 0..options.directions {
+                if i > 0 {
+                    dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
+                }
+                let s = gtao_slice(dir, v, normal);
+                weights += s.weight;
+                if s.proj_len < 1e-6 {
+                    continue;
+                }
+                let mut hc = [-s.sin_n, s.sin_n];
+                let mut hq = [p, p];
+                let mut ray = pattern[2] * step_px + 1.0;
+                for _ in 0..options.steps {
+                    let off = px.snap([dir[0] * ray, dir[1] * ray]);
+                    ray += step_px;
+                    if off == [0, 0] {
+                        continue;
+                    }
+                    for side in 0..2 {
+                        let q = if side == 0 {
+                            [p[0] + off[0], p[1] + off[1]]
+                        } else {
+                            [p[0] - off[0], p[1] - off[1]]
+                        };
+                        let Some(sd) = px.depth_at(q) else {
+                            continue;
+                        };
+                        if sd.is_nan() || sd <= 0.0 {
+                            continue;
+                        }
+                        let full = f.view_position(centre(q), sd) - pos;
+                        let r2 = full.dot(full) * f.inv_radius2;
+                        let wv = full - s.axis * full.dot(s.axis);
+                        if r2 >= 1.0 || wv.dot(wv) <= 0.0 || full.dot(normal) <= tolerance {
+                            continue;
+                        }
+                        let c = (wv.dot(v) / wv.dot(wv).sqrt()).clamp(-1.0, 1.0);
+                        if c > hc[side] {
+                            hc[side] = c;
+                            hq[side] = q;
+                        }
+                    }
+                }
+                for side in 0..2 {
+                    let (sgn, tangent) = if side == 0 {
+                        (1.0, -s.sin_n)
+                    } else {
+                        (-1.0, s.sin_n)
+                    };
+                    let covered = gtao_side(tangent, sgn, s.n, s.cos_n, s.sin_n)
+                        - gtao_side(hc[side], sgn, s.n, s.cos_n, s.sin_n);
+                    if covered > 0.0 {
+                        let q = hq[side];
+                        let i = (q[1] * w + q[0]) as usize;
+                        let sn = prepared[i];
+                        let radiance =
+                            albedo[i] * env_irradiance(lighting, Vec3::new(sn.y, sn.z, sn.w));
+                        bounce += (s.weight * s.proj_len * covered) * radiance;
+                    }
+                }
+            }
+            out.push(bounce / weights);
+        }
+    }
+    out
+}
+
+/// SSDO's combine (shaders/ssdo_combine.wgsl): `albedo · (ao · E(bent) + bounce)` with the
+/// surface normal where `bent` is `None` or zero; 0 on sky.
+pub fn ssdo_combine(
+    prepared: &[Vec4],
+    albedo: &[Vec3],
+    ao: &[f32],
+    bent: Option<&[Vec3]>,
+    bounce: Option<&[Vec3]>,
+    lighting: &crate::SsdoLighting,
+) -> Vec<Vec3> {
+    (0..prepared.len())
+        .map(|i| {
+            let c = prepared[i];
+            if c.x.is_nan() || c.x <= 0.0 {
+                return Vec3::ZERO;
+            }
+            let mut dir = Vec3::new(c.y, c.z, c.w);
+            if let Some(b) = bent.map(|b| b[i]).filter(|b| b.length_squared() > 1e-12) {
+                dir = b.normalize();
+            }
+            let mut e = ao[i] * env_irradiance(lighting, dir);
+            if let Some(b) = bounce {
+                e += b[i];
+            }
+            albedo[i] * e
+        })
+        .collect()
 }
 
 fn merge_lights_axis(

@@ -2,8 +2,10 @@
 //! prelude is generated here from Rust constants and [`gpu_struct!`](crate::gpu_struct)
 //! declarations: the single source of truth for values both sides use.
 
+use crate::environment::SH9_SCALE;
 use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
 use crate::lights::{GpuLight, LightsUniforms, LIGHTS_CLASS_MIN_WEIGHT, LIGHTS_MAX};
+use crate::ssdo::{SsdoUniforms, SSDO_SELF_TOLERANCE};
 use crate::uniforms::FrameUniforms;
 use crate::{DepthDownsample, Estimator, Upsampler};
 
@@ -239,8 +241,13 @@ pub enum Pass {
     /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]);
     /// `layers`: the prepared buffer as the AO's N×N layers (fused deinterleaved modes).
     LightsShade { layers: bool },
-    /// The geometry-aware merge of interleaved many-light shading over one period.
+    /// The geometry-aware merge of interleaved many-light shading over one period (also
+    /// merges the SSDO bounce).
     LightsMerge { layers: bool },
+    /// One diffuse bounce of screen-space directional occlusion ([`crate::ssdo`]).
+    SsdoBounce { layers: bool },
+    /// SSDO's combine: albedo · (AO · environment at the bent normal + bounce).
+    SsdoCombine { layers: bool },
 }
 
 impl Pass {
@@ -323,7 +330,12 @@ impl Pass {
             ]);
         }
         for layers in [false, true] {
-            v.extend([Pass::LightsShade { layers }, Pass::LightsMerge { layers }]);
+            v.extend([
+                Pass::LightsShade { layers },
+                Pass::LightsMerge { layers },
+                Pass::SsdoBounce { layers },
+                Pass::SsdoCombine { layers },
+            ]);
         }
         v
     }
@@ -405,6 +417,12 @@ impl Pass {
             Pass::LightsMerge { layers } => {
                 ["lights_merge", "lights_merge_from_layers"][layers as usize]
             }
+            Pass::SsdoBounce { layers } => {
+                ["ssdo_bounce", "ssdo_bounce_from_layers"][layers as usize]
+            }
+            Pass::SsdoCombine { layers } => {
+                ["ssdo_combine", "ssdo_combine_from_layers"][layers as usize]
+            }
         }
     }
 
@@ -412,7 +430,11 @@ impl Pass {
     fn fragments(self) -> Vec<&'static str> {
         let estimator_source = |e: Estimator| match e {
             Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
-            Estimator::Gtao => include_str!("../shaders/gtao.wgsl"),
+            Estimator::Gtao => concat!(
+                include_str!("../shaders/gtao_arcs.wgsl"),
+                "\n",
+                include_str!("../shaders/gtao.wgsl")
+            ),
             Estimator::Vo | Estimator::Vao | Estimator::VoArea => {
                 include_str!("../shaders/sphere.wgsl")
             }
@@ -578,6 +600,17 @@ impl Pass {
                 include_str!("../shaders/merge.wgsl"),
                 include_str!("../shaders/lights_merge.wgsl"),
             ],
+            Pass::SsdoBounce { layers } => vec![
+                prepared_source(layers),
+                include_str!("../shaders/gtao_arcs.wgsl"),
+                include_str!("../shaders/ssdo_env.wgsl"),
+                include_str!("../shaders/ssdo_bounce.wgsl"),
+            ],
+            Pass::SsdoCombine { layers } => vec![
+                prepared_source(layers),
+                include_str!("../shaders/ssdo_env.wgsl"),
+                include_str!("../shaders/ssdo_combine.wgsl"),
+            ],
         }
     }
 
@@ -677,7 +710,11 @@ impl Pass {
             }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
             // Not AO passes: [`crate::lights::Lights`] sets their `PERIOD`.
-            Pass::LightsShade { .. } | Pass::LightsMerge { .. } => vec![],
+            // Not AO passes: [`crate::ssdo::Ssdo`] sets theirs.
+            Pass::LightsShade { .. }
+            | Pass::LightsMerge { .. }
+            | Pass::SsdoBounce { .. }
+            | Pass::SsdoCombine { .. } => vec![],
             Pass::AoFull { estimator: e, bent } => {
                 [&estimator[..], &sphere(e)[..], &bent_constant(e, bent)[..]].concat()
             }
@@ -759,12 +796,16 @@ pub fn prelude() -> String {
          const NOISE_OFFSET_SIGMAS: f32 = {NOISE_OFFSET_SIGMAS:?};\n\
          const LIGHTS_CLASS_MIN_WEIGHT: f32 = {LIGHTS_CLASS_MIN_WEIGHT:?};\n\
          const LIGHTS_MAX: u32 = {LIGHTS_MAX}u;\n\
-         {}{}{}",
+         const SSDO_SELF_TOLERANCE: f32 = {SSDO_SELF_TOLERANCE:?};\n\
+         const SH9_SCALE: array<f32, 5> = array<f32, 5>({});\n\
+         {}{}{}{}",
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),
+        wgsl_floats(&SH9_SCALE),
         FrameUniforms::wgsl(),
         GpuLight::wgsl(),
-        LightsUniforms::wgsl()
+        LightsUniforms::wgsl(),
+        SsdoUniforms::wgsl()
     )
 }
 

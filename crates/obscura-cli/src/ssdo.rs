@@ -1,0 +1,556 @@
+//! Screen-space directional occlusion in the CLI: `render --ssdo FILE --env ENV` writes a
+//! colour image, and `eval --ssdo --env ENV` judges it against the ray tracer extended to
+//! the same lighting (`obscura_eval::trace_ssdo_view`: the environment within the radius
+//! and one diffuse bounce), beside the usual `AO × E(n)` and no occlusion at all, in each
+//! layout, with each variant's cost timed interleaved (wall clock around submit + wait,
+//! after a warm-up, median).
+
+use crate::eval::{camera_for, median, EvalArgs, Job};
+use crate::output::{save_png, write_text};
+use anyhow::{bail, Context, Result};
+use glam::{Mat3, Vec3};
+use obscura::{
+    Ao, AoOptions, AoParams, Environment, EnvironmentMap, Estimator, GpuContext, Ssdo, SsdoInputs,
+    SsdoLighting, SsdoOptions,
+};
+use obscura_eval::cache::{self, Fnv};
+use obscura_eval::{Bvh, Falloff, PixelSampling, ReferenceSsdo, TraceSettings};
+use obscura_scene::{Camera, GBuffer, GBufferRenderer, Mesh};
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+/// Parses `--env`: `sky` (a daylight gradient, `obscura::Environment::SKY`), `white` (a
+/// constant sky of 1), `gradient:R,G,B:R,G,B` (zenith, nadir), `constant:R,G,B`, or an
+/// equirectangular `.hdr` / `.exr` file.
+pub fn parse_env(s: &str) -> Result<Environment> {
+    let colour = |t: &str| -> Result<[f32; 3]> {
+        let v = crate::render::parse_floats(t, "--env colour")?;
+        match v.as_slice() {
+            &[r, g, b] => Ok([r, g, b]),
+            _ => bail!("--env colours need 3 numbers, got `{t}`"),
+        }
+    };
+    let env = match s {
+        "sky" => Environment::SKY,
+        "white" => Environment::Constant([1.0; 3]),
+        _ if s.starts_with("constant:") => Environment::Constant(colour(&s[9..])?),
+        _ if s.starts_with("gradient:") => {
+            let Some((sky, ground)) = s[9..].split_once(':') else {
+                bail!("--env gradient:R,G,B:R,G,B needs two colours, got `{s}`");
+            };
+            Environment::Gradient {
+                sky: colour(sky)?,
+                ground: colour(ground)?,
+            }
+        }
+        _ => Environment::Map(load_map(Path::new(s))?),
+    };
+    env.validate()?;
+    Ok(env)
+}
+
+/// An equirectangular map from a Radiance `.hdr` or OpenEXR `.exr` file.
+fn load_map(path: &Path) -> Result<EnvironmentMap> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    if ext != "hdr" && ext != "exr" {
+        bail!(
+            "--env `{}` is neither sky, white, constant:R,G,B, gradient:R,G,B:R,G,B nor a .hdr \
+             or .exr equirectangular map",
+            path.display()
+        );
+    }
+    let image = image::open(path)
+        .with_context(|| format!("cannot read the environment map `{}`", path.display()))?
+        .into_rgb32f();
+    let (w, h) = image.dimensions();
+    let texels = image.pixels().map(|p| p.0).collect();
+    Ok(EnvironmentMap::new(w, h, texels)?)
+}
+
+/// The environment's identity for the reference cache.
+fn env_hash(env: &Environment, f: &mut Fnv) {
+    match env {
+        Environment::Constant(c) => f.bytes(b"c").f32s(c),
+        Environment::Gradient { sky, ground } => f.bytes(b"g").f32s(sky).f32s(ground),
+        Environment::Map(m) => {
+            f.bytes(b"m").bytes(&m.width.to_le_bytes());
+            for t in &m.texels {
+                f.f32s(t);
+            }
+            f
+        }
+    };
+}
+
+/// The camera's view-to-world rotation and the environment's harmonics.
+pub fn lighting(env: &Environment, cam: &Camera) -> SsdoLighting {
+    SsdoLighting {
+        irradiance: env.irradiance_sh(),
+        view_to_world: Mat3::from_mat4(cam.view_matrix().inverse()).to_cols_array_2d(),
+    }
+}
+
+/// Runs SSDO after `ao`'s last frame (full resolution) and returns its radiance (rgb).
+#[allow(clippy::too_many_arguments)]
+pub fn shade(
+    ctx: &GpuContext,
+    ao: &Ao,
+    gbuffer: &GBuffer,
+    frame: &obscura::uniforms::FrameUniforms,
+    lighting: &SsdoLighting,
+    options: SsdoOptions,
+    runs: u32,
+) -> Result<(Vec<[f32; 3]>, f64)> {
+    let mut ssdo = Ssdo::new(&ctx.device, options)?;
+    let inputs = inputs(ao, gbuffer)?;
+    let mut times = Vec::new();
+    for round in 0..=runs {
+        let t = Instant::now();
+        ctx.run(|enc| ssdo.record(&ctx.device, &ctx.queue, enc, inputs, frame, lighting))?;
+        if round > 0 {
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    Ok((
+        read_rgb(ctx, ssdo.output().context("no SSDO output")?)?,
+        median(times),
+    ))
+}
+
+/// SSDO's inputs from an AO plan at full resolution and the G-buffer's albedo.
+fn inputs<'a>(ao: &'a Ao, gbuffer: &'a GBuffer) -> Result<SsdoInputs<'a>> {
+    let prepared = ao
+        .prepared_source()
+        .context("SSDO reads the AO's full-resolution depth and normals: use --resolution full")?;
+    Ok(SsdoInputs {
+        prepared,
+        albedo: &gbuffer.albedo,
+        ao: ao.output().context("no AO output")?,
+        bent: ao.bent_normals(),
+    })
+}
+
+fn read_rgb(ctx: &GpuContext, t: &wgpu::Texture) -> Result<Vec<[f32; 3]>> {
+    Ok(read_rgba(ctx, t)?.0)
+}
+
+/// The rgb of an SSDO output, and where its alpha marks a surface.
+fn read_rgba(ctx: &GpuContext, t: &wgpu::Texture) -> Result<(Vec<[f32; 3]>, Vec<bool>)> {
+    let v = ctx.read_f32(t)?;
+    Ok((
+        v.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect(),
+        v.chunks_exact(4).map(|c| c[3] > 0.0).collect(),
+    ))
+}
+
+/// Linear radiance → 8-bit sRGB (clamped at 1; sky black).
+pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
+    rgb.iter()
+        .flatten()
+        .map(|&v| {
+            let v = v.clamp(0.0, 1.0);
+            let s = if v <= 0.003_130_8 {
+                12.92 * v
+            } else {
+                1.055 * v.powf(1.0 / 2.4) - 0.055
+            };
+            (s * 255.0).round() as u8
+        })
+        .collect()
+}
+
+/// Writes radiance as an sRGB PNG, or linear float RGB for `.exr`.
+pub fn save_radiance(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32) -> Result<()> {
+    let exr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if exr {
+        let floats: Vec<f32> = rgb.iter().flatten().copied().collect();
+        let img = image::Rgb32FImage::from_raw(w, h, floats).context("image size mismatch")?;
+        let tmp = path.with_extension(format!("tmp-{}.exr", std::process::id()));
+        img.save(&tmp)
+            .with_context(|| format!("cannot write `{}`", path.display()))?;
+        std::fs::rename(&tmp, path)
+            .with_context(|| format!("cannot write `{}`", path.display()))?;
+        return Ok(());
+    }
+    save_png(path, &srgb8(rgb), w, h, image::ExtendedColorType::Rgb8)
+}
+
+/// The SSDO reference of one view, from the cache or traced (with progress).
+#[allow(clippy::too_many_arguments)]
+fn reference(
+    a: &EvalArgs,
+    env: &Environment,
+    scene_bytes: &[u8],
+    mesh: &Mesh,
+    cam: &Camera,
+    settings: &TraceSettings,
+    name: &str,
+) -> Result<ReferenceSsdo> {
+    let (w, h) = (a.width, a.height);
+    let mut f = Fnv::default();
+    f.bytes(&cache::key(scene_bytes, cam, w, h, settings).to_le_bytes())
+        .bytes(b"ssdo1");
+    env_hash(env, &mut f);
+    for c in mesh.triangle_colours() {
+        f.f32s(&c);
+    }
+    let path = a.cache.join(format!("ssdo-{:016x}.bin", f.finish()));
+    let n = (w * h) as usize;
+    if let Some(v) = cache::load_floats(&path, w, h, 7 * n) {
+        eprintln!("  reference: cached ({})", path.display());
+        let rgb = |k: usize| -> Vec<[f32; 3]> {
+            v[k..k + 3 * n]
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect()
+        };
+        return Ok(ReferenceSsdo {
+            width: w,
+            height: h,
+            radiance: rgb(0),
+            albedo: rgb(3 * n),
+            depth: v[6 * n..].to_vec(),
+        });
+    }
+    let t = Instant::now();
+    let bvh = Bvh::new(obscura_eval::triangles(mesh));
+    let colours = mesh.triangle_colours();
+    let last = std::sync::atomic::AtomicUsize::new(0);
+    let r = obscura_eval::trace_ssdo_view(&bvh, &colours, env, cam, w, h, settings, &|d, total| {
+        let pct = d * 10 / total;
+        if last.fetch_max(pct, std::sync::atomic::Ordering::Relaxed) < pct {
+            eprintln!(
+                "  {name} reference: {}% ({:.0} s)",
+                pct * 10,
+                t.elapsed().as_secs_f64()
+            );
+        }
+    });
+    eprintln!(
+        "  reference: {w}x{h} × {} rays in {:.1} s",
+        settings.rays,
+        t.elapsed().as_secs_f64()
+    );
+    let floats: Vec<f32> = r
+        .radiance
+        .iter()
+        .flatten()
+        .chain(r.albedo.iter().flatten())
+        .chain(&r.depth)
+        .copied()
+        .collect();
+    if let Err(e) = cache::store_floats(&path, w, h, &floats) {
+        eprintln!("  warning: could not cache the reference: {e}");
+    }
+    Ok(r)
+}
+
+/// One variant of the lighting, as `eval --ssdo` compares them.
+#[derive(Clone, Copy, Debug)]
+enum Variant {
+    /// Albedo × E(n): the environment with no occlusion.
+    Open,
+    /// Albedo × AO × E(n): AO multiplied onto the environment's light.
+    AoTimesE,
+    /// Albedo × AO × E(bent normal).
+    Directional,
+    /// Directional, plus the bounce interleaved over `period`.
+    Bounce { period: u32 },
+}
+
+impl Variant {
+    fn label(self) -> String {
+        match self {
+            Variant::Open => "no occlusion: E(n)".into(),
+            Variant::AoTimesE => "AO × E(n)".into(),
+            Variant::Directional => "SSDO direct: AO × E(bent)".into(),
+            Variant::Bounce { period: 1 } => "SSDO + bounce, every pixel's slices".into(),
+            Variant::Bounce { period: n } => format!("SSDO + bounce, {n}×{n} interleaved + merge"),
+        }
+    }
+
+    fn options(self) -> SsdoOptions {
+        let base = SsdoOptions::default();
+        match self {
+            Variant::Bounce { period } => SsdoOptions { period, ..base },
+            _ => SsdoOptions {
+                bounce: false,
+                ..base
+            },
+        }
+    }
+
+    fn file(self) -> &'static str {
+        match self {
+            Variant::Open => "open",
+            Variant::AoTimesE => "ao",
+            Variant::Directional => "direct",
+            Variant::Bounce { period: 1 } => "bounce1",
+            Variant::Bounce { .. } => "bounce",
+        }
+    }
+}
+
+struct Row {
+    view: String,
+    mode: String,
+    variant: String,
+    rmse: f64,
+    bias: f64,
+    ms: f64,
+}
+
+/// Root-mean-square and mean difference over the channels of `mask`ed pixels.
+fn errors(got: &[[f32; 3]], want: &[[f32; 3]], mask: &[bool]) -> (f64, f64) {
+    let (mut se, mut sum, mut n) = (0.0f64, 0.0f64, 0.0f64);
+    for ((g, w), &m) in got.iter().zip(want).zip(mask) {
+        if m {
+            for k in 0..3 {
+                let d = (g[k] - w[k]) as f64;
+                se += d * d;
+                sum += d;
+                n += 1.0;
+            }
+        }
+    }
+    if n == 0.0 {
+        return (0.0, 0.0);
+    }
+    ((se / n).sqrt(), sum / n)
+}
+
+/// `eval --ssdo`: every view, every `--modes` layout (GTAO with bent normals at the preset,
+/// the library's default denoiser), the variants of [`Variant`] against the traced
+/// reference.
+pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
+    let env = parse_env(&a.env)?;
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let raster = GBufferRenderer::new(&ctx.device);
+    let (w, h) = (a.width, a.height);
+    let mut rows = Vec::new();
+    let mut pictures = Vec::new();
+    if let Some(dir) = &a.report {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+    }
+    for job in jobs {
+        let bytes = std::fs::read(&job.file)
+            .with_context(|| format!("cannot read scene `{}`", job.file.display()))?;
+        let mut mesh = Mesh::load(&job.file)
+            .with_context(|| format!("cannot load scene `{}`", job.file.display()))?;
+        mesh.colours = mesh
+            .vertex_colours()
+            .into_iter()
+            .map(|c| c.map(|v| v * a.albedo_scale))
+            .collect();
+        let cam = camera_for(job, &mesh)?;
+        let bounds = mesh.bounds().context("the scene has no triangles")?;
+        let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+        let settings = TraceSettings {
+            radius,
+            rays: a.rays,
+            falloff: Falloff::None,
+            sampling: PixelSampling::Centre,
+        };
+        eprintln!(
+            "{}: {} triangles, radius {radius:.3}",
+            job.name,
+            mesh.triangle_count()
+        );
+        let truth = reference(a, &env, &bytes, &mesh, &cam, &settings, &job.name)?;
+        let gpu_mesh = raster.upload(&ctx, &mesh)?;
+        let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
+        let input = g.ao_input(&cam, true);
+        let params = AoParams {
+            radius,
+            ..Default::default()
+        };
+        let light = lighting(&env, &cam);
+        let ones = ctx.upload_r32("ones", &vec![1.0; (w * h) as usize], w, h);
+        for (m, &mode) in a.modes.iter().enumerate() {
+            let options = AoOptions {
+                mode: mode.into(),
+                bent_normals: true,
+                ..a.samples.options(Estimator::Gtao)
+            };
+            let mut ao = Ao::new(&ctx.device, options)?;
+            let frame = ao.validate(&input, &params)?;
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let mut variants = vec![
+                Variant::AoTimesE,
+                Variant::Directional,
+                Variant::Bounce { period: 4 },
+                Variant::Bounce { period: 1 },
+            ];
+            if m == 0 {
+                variants.insert(0, Variant::Open);
+            }
+            let mut passes = variants
+                .iter()
+                .map(|v| Ok(Ssdo::new(&ctx.device, v.options())?))
+                .collect::<Result<Vec<_>>>()?;
+            // The AO's own frame, timed with the variants, interleaved.
+            let mut times = vec![Vec::new(); passes.len() + 1];
+            for round in 0..=a.runs {
+                let t = Instant::now();
+                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                if round > 0 {
+                    times[0].push(t.elapsed().as_secs_f64() * 1e3);
+                }
+                for (i, (s, v)) in passes.iter_mut().zip(&variants).enumerate() {
+                    let mut inputs = inputs(&ao, &g)?;
+                    // Open: AO 1 and the normal; AO × E(n): the plan's AO and the normal.
+                    if matches!(v, Variant::Open) {
+                        inputs.ao = &ones;
+                    }
+                    if matches!(v, Variant::Open | Variant::AoTimesE) {
+                        inputs.bent = None;
+                    }
+                    let t = Instant::now();
+                    ctx.run(|enc| s.record(&ctx.device, &ctx.queue, enc, inputs, &frame, &light))?;
+                    if round > 0 {
+                        times[i + 1].push(t.elapsed().as_secs_f64() * 1e3);
+                    }
+                }
+            }
+            let mode_name = obscura::AoMode::from(mode).name().to_string();
+            let ao_ms = median(std::mem::take(&mut times[0]));
+            rows.push(Row {
+                view: job.name.clone(),
+                mode: mode_name.clone(),
+                variant: "GTAO + bent normals (the AO frame)".into(),
+                rmse: f64::NAN,
+                bias: f64::NAN,
+                ms: ao_ms,
+            });
+            for (i, (s, v)) in passes.iter().zip(&variants).enumerate() {
+                let (img, surface) = read_rgba(&ctx, s.output().context("no SSDO output")?)?;
+                // Pixels both the rasterizer and the tracer see a surface at.
+                let mask: Vec<bool> = surface
+                    .iter()
+                    .zip(&truth.depth)
+                    .map(|(&a, &b)| a && b > 0.0)
+                    .collect();
+                let (rmse, bias) = errors(&img, &truth.radiance, &mask);
+                rows.push(Row {
+                    view: job.name.clone(),
+                    mode: mode_name.clone(),
+                    variant: v.label(),
+                    rmse,
+                    bias,
+                    ms: median(std::mem::take(&mut times[i + 1])),
+                });
+                if let (Some(dir), 0) = (&a.report, m) {
+                    let path = dir.join(format!("{}-{}.png", job.name, v.file()));
+                    save_scaled(&path, &img, w, h, a.picture_scale)?;
+                    pictures.push((format!("{}: {}", job.name, v.label()), path));
+                }
+            }
+            eprintln!("  {mode_name}: done");
+        }
+        if let Some(dir) = &a.report {
+            let path = dir.join(format!("{}-truth.png", job.name));
+            save_scaled(&path, &truth.radiance, w, h, a.picture_scale)?;
+            pictures.push((format!("{}: ray-traced truth", job.name), path));
+        }
+    }
+    let table = table(&rows);
+    print!("{table}");
+    if let Some(dir) = &a.report {
+        let md_path = a.markdown.clone().unwrap_or_else(|| dir.join("index.md"));
+        let mut md = format!(
+            "# Screen-space directional occlusion against the ray tracer\n\nCommand: `obscura {}`\n\nAdapter: {}\n\n{table}",
+            std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+            ctx.describe()
+        );
+        for (title, file) in &pictures {
+            let base = md_path.parent().unwrap_or(Path::new(""));
+            let link = file
+                .strip_prefix(base)
+                .unwrap_or(file)
+                .display()
+                .to_string();
+            let _ = write!(md, "\n![{title}]({link})\n");
+        }
+        write_text(&md_path, &md)?;
+        eprintln!("wrote {}", md_path.display());
+    }
+    Ok(())
+}
+
+/// Writes `rgb` (w × h) as an sRGB PNG shrunk by `scale` (box filter).
+fn save_scaled(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32, scale: f32) -> Result<()> {
+    let k = (1.0 / scale).round().max(1.0) as u32;
+    let (sw, sh) = (w / k, h / k);
+    let mut out = Vec::with_capacity((sw * sh) as usize);
+    for y in 0..sh {
+        for x in 0..sw {
+            let mut s = Vec3::ZERO;
+            for dy in 0..k {
+                for dx in 0..k {
+                    s += Vec3::from(rgb[((y * k + dy) * w + x * k + dx) as usize]);
+                }
+            }
+            out.push((s / (k * k) as f32).to_array());
+        }
+    }
+    save_radiance(path, &out, sw, sh)
+}
+
+/// The rows as a markdown table, then the mean over views per layout and variant.
+fn table(rows: &[Row]) -> String {
+    let mut s =
+        String::from("| view | layout | variant | RMSE | bias | ms |\n|---|---|---|---|---|---|\n");
+    let num = |v: f64| {
+        if v.is_nan() {
+            "–".to_string()
+        } else {
+            format!("{v:+.4}")
+        }
+    };
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {:.1} |",
+            r.view,
+            r.mode,
+            r.variant,
+            num(r.rmse).trim_start_matches('+'),
+            num(r.bias),
+            r.ms
+        );
+    }
+    let mut keys: Vec<(String, String)> = Vec::new();
+    for r in rows {
+        let k = (r.mode.clone(), r.variant.clone());
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    s.push_str(
+        "\nMean over views:\n\n| layout | variant | RMSE | bias | ms |\n|---|---|---|---|---|\n",
+    );
+    for (mode, variant) in keys {
+        let sel: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.mode == mode && r.variant == variant)
+            .collect();
+        let mean = |f: fn(&Row) -> f64| sel.iter().map(|r| f(r)).sum::<f64>() / sel.len() as f64;
+        let _ = writeln!(
+            s,
+            "| {mode} | {variant} | {} | {} | {:.1} |",
+            num(mean(|r| r.rmse)).trim_start_matches('+'),
+            num(mean(|r| r.bias)),
+            mean(|r| r.ms)
+        );
+    }
+    s
+}
