@@ -261,8 +261,9 @@ enum Variant {
     AoTimesE,
     /// Albedo × AO × E(bent normal).
     Directional,
-    /// Directional, plus the bounce interleaved over `period`.
-    Bounce { period: u32 },
+    /// Directional, plus the bounce of `directions` slices per pixel interleaved over
+    /// `period`.
+    Bounce { period: u32, directions: u32 },
 }
 
 impl Variant {
@@ -271,15 +272,25 @@ impl Variant {
             Variant::Open => "no occlusion: E(n)".into(),
             Variant::AoTimesE => "AO × E(n)".into(),
             Variant::Directional => "SSDO direct: AO × E(bent)".into(),
-            Variant::Bounce { period: 1 } => "SSDO + bounce, every pixel's slices".into(),
-            Variant::Bounce { period: n } => format!("SSDO + bounce, {n}×{n} interleaved + merge"),
+            Variant::Bounce {
+                period: 1,
+                directions: d,
+            } => format!("SSDO + bounce, {d} slices, the same at every pixel"),
+            Variant::Bounce {
+                period: n,
+                directions: d,
+            } => format!("SSDO + bounce, {d} slices, {n}×{n} interleaved + merge"),
         }
     }
 
     fn options(self) -> SsdoOptions {
         let base = SsdoOptions::default();
         match self {
-            Variant::Bounce { period } => SsdoOptions { period, ..base },
+            Variant::Bounce { period, directions } => SsdoOptions {
+                period,
+                directions,
+                ..base
+            },
             _ => SsdoOptions {
                 bounce: false,
                 ..base
@@ -292,8 +303,11 @@ impl Variant {
             Variant::Open => "open",
             Variant::AoTimesE => "ao",
             Variant::Directional => "direct",
-            Variant::Bounce { period: 1 } => "bounce1",
-            Variant::Bounce { .. } => "bounce",
+            Variant::Bounce {
+                period: 2,
+                directions: 2,
+            } => "bounce",
+            Variant::Bounce { .. } => "bounce-other",
         }
     }
 }
@@ -384,11 +398,15 @@ pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
             let mut ao = Ao::new(&ctx.device, options)?;
             let frame = ao.validate(&input, &params)?;
             ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let bounce = |period, directions| Variant::Bounce { period, directions };
             let mut variants = vec![
                 Variant::AoTimesE,
                 Variant::Directional,
-                Variant::Bounce { period: 4 },
-                Variant::Bounce { period: 1 },
+                bounce(2, 2),
+                bounce(2, 1),
+                bounce(2, 4),
+                bounce(4, 2),
+                bounce(1, 2),
             ];
             if m == 0 {
                 variants.insert(0, Variant::Open);
