@@ -180,11 +180,14 @@ pub struct EvalArgs {
     /// in each --modes layout (the library's default denoiser), then the environment
     /// through the bent cone with and without the one-bounce pass, beside AO × E(n) and no
     /// occlusion, against the ray tracer extended to --env and one diffuse bounce (albedo
-    /// from the scene's materials). RMSE of linear radiance; each variant timed.
+    /// from the scene's materials). RMSE of linear radiance; each variant timed. Runs GTAO
+    /// at --preset (or --directions/--steps) with the library's default denoiser at full
+    /// resolution: --estimators, --resolutions and --denoise do not apply.
     #[arg(long, conflicts_with_all = ["sensor", "msaa", "bent_normals"])]
     pub ssdo: bool,
     /// The environment of --ssdo: sky (a daylight gradient), white, constant:R,G,B,
-    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file.
+    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file (row 0
+    /// the zenith, +y; the left edge facing +x, columns turning toward +z).
     #[arg(long, default_value = "sky", requires = "ssdo")]
     pub env: String,
     /// --ssdo: multiply every surface's albedo by this (0..=1). The shared scenes name no

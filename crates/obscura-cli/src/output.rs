@@ -193,7 +193,7 @@ pub fn save_png(
 }
 
 /// Encodes raw pixels as `format` into `path` atomically.
-fn save_image(
+pub(crate) fn save_image(
     path: &Path,
     pixels: &[u8],
     width: u32,

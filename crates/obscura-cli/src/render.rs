@@ -378,7 +378,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE", conflicts_with_all = ["depth", "msaa", "orbit"])]
     pub ssdo: Option<PathBuf>,
     /// The environment of --ssdo: sky (a daylight gradient), white, constant:R,G,B,
-    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file.
+    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file (row 0
+    /// the zenith, +y; the left edge facing +x, columns turning toward +z).
     #[arg(long, default_value = "sky", requires = "ssdo")]
     pub env: String,
 }
@@ -624,6 +625,12 @@ fn median_ms(mut v: Vec<f64>) -> f64 {
 /// [`check_args`].
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
+    // The environment first: a bad --env fails before any output is written.
+    let env = a
+        .ssdo
+        .as_ref()
+        .map(|_| crate::ssdo::parse_env(&a.env))
+        .transpose()?;
     let (mesh, name) = match &a.scene {
         Some(p) => (
             Mesh::load(p).with_context(|| format!("cannot load scene `{}`", p.display()))?,
@@ -715,9 +722,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         save_vectors(path, &bent, w, h)?;
         eprintln!("wrote {} ({w}x{h})", path.display());
     }
-    if let (Some(path), Some(g)) = (&a.ssdo, &gbuffer) {
-        let env = crate::ssdo::parse_env(&a.env)?;
-        let lighting = crate::ssdo::lighting(&env, &cam);
+    if let (Some(path), Some(g), Some(env)) = (&a.ssdo, &gbuffer, &env) {
+        let lighting = crate::ssdo::lighting(env, &cam);
         let options = obscura::SsdoOptions::default();
         let (rgb, ms) = crate::ssdo::shade(&ctx, &ao, g, &frame, &lighting, options, a.runs)?;
         eprintln!(

@@ -50,7 +50,9 @@ pub fn parse_env(s: &str) -> Result<Environment> {
     Ok(env)
 }
 
-/// An equirectangular map from a Radiance `.hdr` or OpenEXR `.exr` file.
+/// An equirectangular map from a Radiance `.hdr` or OpenEXR `.exr` file (row 0 at the
+/// zenith, the left edge toward +x, columns turning toward +z; negative texels, which
+/// filtered HDR images can hold, are clamped to 0).
 fn load_map(path: &Path) -> Result<EnvironmentMap> {
     let ext = path
         .extension()
@@ -68,7 +70,10 @@ fn load_map(path: &Path) -> Result<EnvironmentMap> {
         .with_context(|| format!("cannot read the environment map `{}`", path.display()))?
         .into_rgb32f();
     let (w, h) = image.dimensions();
-    let texels = image.pixels().map(|p| p.0).collect();
+    let texels = image
+        .pixels()
+        .map(|p| p.0.map(|v| if v < 0.0 { 0.0 } else { v }))
+        .collect();
     Ok(EnvironmentMap::new(w, h, texels)?)
 }
 
@@ -170,14 +175,15 @@ pub fn save_radiance(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32) -> Result<()
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if exr {
-        let floats: Vec<f32> = rgb.iter().flatten().copied().collect();
-        let img = image::Rgb32FImage::from_raw(w, h, floats).context("image size mismatch")?;
-        let tmp = path.with_extension(format!("tmp-{}.exr", std::process::id()));
-        img.save(&tmp)
-            .with_context(|| format!("cannot write `{}`", path.display()))?;
-        std::fs::rename(&tmp, path)
-            .with_context(|| format!("cannot write `{}`", path.display()))?;
-        return Ok(());
+        let bytes: Vec<u8> = rgb.iter().flatten().flat_map(|v| v.to_ne_bytes()).collect();
+        return crate::output::save_image(
+            path,
+            &bytes,
+            w,
+            h,
+            image::ExtendedColorType::Rgb32F,
+            image::ImageFormat::OpenExr,
+        );
     }
     save_png(path, &srgb8(rgb), w, h, image::ExtendedColorType::Rgb8)
 }
@@ -298,16 +304,16 @@ impl Variant {
         }
     }
 
-    fn file(self) -> &'static str {
+    fn file(self) -> String {
         match self {
-            Variant::Open => "open",
-            Variant::AoTimesE => "ao",
-            Variant::Directional => "direct",
+            Variant::Open => "open".into(),
+            Variant::AoTimesE => "ao".into(),
+            Variant::Directional => "direct".into(),
             Variant::Bounce {
                 period: 2,
                 directions: 2,
-            } => "bounce",
-            Variant::Bounce { .. } => "bounce-other",
+            } => "bounce".into(),
+            Variant::Bounce { period, directions } => format!("bounce-p{period}-d{directions}"),
         }
     }
 }

@@ -1440,6 +1440,7 @@ fn ssdo_rejects_bad_input() {
         assert!(err.contains(want), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{err}");
         assert!(!d.join("x.png").exists() && !d.join("x.jpg").exists());
+        assert!(!ao.exists(), "{args:?} wrote the AO before refusing");
     }
     let out = obscura(&["eval", "--ssdo", "--view", "cornell", "--albedo-scale", "2"]);
     let err = String::from_utf8_lossy(&out.stderr);

@@ -1,6 +1,6 @@
 // GTAO's slice geometry and closed-form arcs (Jimenez, Wu, Pesce & Jarabo 2016), shared by
 // the AO estimator (gtao.wgsl) and the directional-occlusion bounce (ssdo_bounce.wgsl).
-// CPU mirror: src/reference.rs (`gtao_pixel`, `ssdo_bounce_pixel`).
+// CPU mirror: src/reference.rs (`fast_acos`, `gtao_side`, `gtao_bent`, `gtao_slice`).
 
 const PI: f32 = 3.141592653589793;
 const HALF_PI: f32 = 1.5707963267948966;

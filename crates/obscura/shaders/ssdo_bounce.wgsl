@@ -9,7 +9,8 @@
 // occluders cover on that side; it is lit by the sample that set the horizon, whose
 // radiance is its albedo times the environment's irradiance at its normal (no shadowing
 // at the sender: one bounce of the unshadowed environment). Slices are weighted as GTAO
-// weights them, so a pixel's open arcs (its AO) and its covered arcs sum to 1.
+// weights them, so on the same slices a pixel's open arcs (GTAO's AO at strength 1) and
+// its covered arcs sum to 1.
 //
 // With PERIOD n > 1 each pixel class of the n × n tile takes its own pattern (first slice
 // direction, step offset; `SsdoOptions::patterns`), and lights_merge.wgsl reconstructs

@@ -69,7 +69,9 @@ impl IrradianceSh {
 
 /// An equirectangular radiance map, linear rgb, row 0 at the zenith (+y): texel (i, j)
 /// of a w × h map looks along θ = π (j + ½) / h from +y, φ = 2π (i + ½) / w from +x toward
-/// +z: `(sin θ cos φ, cos θ, sin θ sin φ)`.
+/// +z: `(sin θ cos φ, cos θ, sin θ sin φ)`. Make it with [`EnvironmentMap::new`]; a map
+/// built field by field is checked by [`Environment::validate`], which
+/// [`crate::Ssdo`]'s callers and the CLI run before use.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {
     pub width: u32,
@@ -81,6 +83,18 @@ pub struct EnvironmentMap {
 impl EnvironmentMap {
     /// Checks the size and the texels.
     pub fn new(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Result<Self> {
+        let map = Self {
+            width,
+            height,
+            texels,
+        };
+        map.validate()?;
+        Ok(map)
+    }
+
+    /// Checks that the size matches the texels and every texel is finite and ≥ 0.
+    pub fn validate(&self) -> Result<()> {
+        let (width, height, texels) = (self.width, self.height, &self.texels);
         if width == 0 || height == 0 || texels.len() != (width as usize) * (height as usize) {
             return Err(Error::InvalidSetting {
                 field: "environment map",
@@ -98,20 +112,16 @@ impl EnvironmentMap {
                 expected: "finite, non-negative radiance",
             });
         }
-        Ok(Self {
-            width,
-            height,
-            texels,
-        })
+        Ok(())
     }
 
-    /// Texel (i, j)'s direction and sin θ.
-    pub fn direction(&self, i: u32, j: u32) -> ([f32; 3], f32) {
+    /// Texel (i, j)'s direction (its centre).
+    pub fn direction(&self, i: u32, j: u32) -> [f32; 3] {
         let theta = std::f32::consts::PI * (j as f32 + 0.5) / self.height as f32;
         let phi = std::f32::consts::TAU * (i as f32 + 0.5) / self.width as f32;
         let (st, ct) = theta.sin_cos();
         let (sp, cp) = phi.sin_cos();
-        ([st * cp, ct, st * sp], st)
+        [st * cp, ct, st * sp]
     }
 
     /// The texel along unit `d` (nearest).
@@ -143,13 +153,13 @@ impl Environment {
         ground: [0.3, 0.27, 0.24],
     };
 
-    /// Checks the colours (finite, ≥ 0; a map is checked when made).
+    /// Checks the colours (finite, ≥ 0) or the map ([`EnvironmentMap::validate`]).
     pub fn validate(&self) -> Result<()> {
         let ok = |c: &[f32; 3]| c.iter().all(|v| v.is_finite() && *v >= 0.0);
         let good = match self {
             Environment::Constant(c) => ok(c),
             Environment::Gradient { sky, ground } => ok(sky) && ok(ground),
-            Environment::Map(_) => true,
+            Environment::Map(m) => return m.validate(),
         };
         if good {
             return Ok(());
@@ -174,7 +184,7 @@ impl Environment {
     }
 
     /// The radiance projected onto bands 0–2: exact for the constant and the gradient, a
-    /// solid-angle-weighted sum over the texels for a map.
+    /// sum over the texels, each weighted by its exact solid angle, for a map.
     pub fn radiance_sh(&self) -> [[f32; 3]; 9] {
         let mut c = [[0.0f32; 3]; 9];
         // ∫ Y00 dω = 2√π; ∫ y · Y(1,−1) dω = 0.488603 · 4π/3.
@@ -191,13 +201,14 @@ impl Environment {
             }
             Environment::Map(m) => {
                 let mut acc = [[0.0f64; 3]; 9];
-                let texel = (std::f64::consts::TAU / m.width as f64)
-                    * (std::f64::consts::PI / m.height as f64);
                 for j in 0..m.height {
+                    // The row's exact solid angle per texel: (2π / w)(cos θ_top − cos θ_bottom).
+                    let theta = |k: u32| std::f64::consts::PI * k as f64 / m.height as f64;
+                    let w = std::f64::consts::TAU / m.width as f64
+                        * (theta(j).cos() - theta(j + 1).cos());
                     for i in 0..m.width {
-                        let (d, sin_theta) = m.direction(i, j);
+                        let d = m.direction(i, j);
                         let l = m.texels[(j * m.width + i) as usize];
-                        let w = texel * sin_theta as f64;
                         for (a, y) in acc.iter_mut().zip(sh9_basis(d)) {
                             for k in 0..3 {
                                 a[k] += w * (y * l[k]) as f64;
@@ -297,7 +308,7 @@ mod tests {
         };
         for j in 0..h {
             for i in 0..w {
-                texels.push(grad.radiance(probe.direction(i, j).0));
+                texels.push(grad.radiance(probe.direction(i, j)));
             }
         }
         let map = Environment::Map(EnvironmentMap::new(w, h, texels).unwrap());
@@ -311,9 +322,22 @@ mod tests {
         if let Environment::Map(m) = &map {
             for (i, j) in [(0, 0), (17, 9), (63, 31)] {
                 assert_eq!(
-                    m.radiance(m.direction(i, j).0),
+                    m.radiance(m.direction(i, j)),
                     m.texels[(j * w + i) as usize]
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn a_constant_map_of_any_size_projects_exactly() {
+        // Each row weighted by its exact solid angle: even one row integrates to 4π.
+        for (w, h) in [(1, 1), (4, 2), (7, 3)] {
+            let map = EnvironmentMap::new(w, h, vec![[0.5, 1.0, 2.0]; (w * h) as usize]).unwrap();
+            let want = Environment::Constant([0.5, 1.0, 2.0]).radiance_sh();
+            let got = Environment::Map(map).radiance_sh();
+            for k in 0..3 {
+                assert!((got[0][k] - want[0][k]).abs() < 1e-5, "{w}x{h}: {got:?}");
             }
         }
     }
@@ -328,5 +352,12 @@ mod tests {
             .validate()
             .is_err());
         assert!(Environment::SKY.validate().is_ok());
+        // A map built field by field is checked too.
+        let broken = EnvironmentMap {
+            width: 2,
+            height: 0,
+            texels: vec![],
+        };
+        assert!(Environment::Map(broken).validate().is_err());
     }
 }

@@ -1378,7 +1378,7 @@ fn env_irradiance(lighting: &crate::SsdoLighting, n: Vec3) -> Vec3 {
 /// SSDO's bounce (shaders/ssdo_bounce.wgsl): per pixel, GTAO's slices with the pattern
 /// of the pixel's class of `options.period`, each side's covered arc lit by its horizon
 /// sample (albedo × environment irradiance at its normal); 0 on sky. `albedo` is
-/// row-major at the frame's size.
+/// row-major at the frame's size; `options` must pass [`crate::SsdoOptions::validate`].
 pub fn ssdo_bounce(
     f: &FrameUniforms,
     prepared: &[Vec4],

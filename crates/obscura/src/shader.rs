@@ -113,7 +113,7 @@ pub const BENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
 pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
 /// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
-/// |error| ≤ 5e-5 (GTAO's `fast_acos`, shaders/gtao.wgsl, and its mirror).
+/// |error| ≤ 5e-5 (GTAO's `fast_acos`, shaders/gtao_arcs.wgsl, and its mirror).
 pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
 /// Noisy depth (shaders/normals_fit.wgsl): each pixel's plane is fitted to
 /// (2 · FIT_RADIUS + 1)² depths, taps `stride` pixels apart.

@@ -36,7 +36,7 @@ use crate::{Error, Result};
 /// Periods of the bounce's interleaving: 1 (every pixel the same slices), 2, 4.
 pub const SSDO_PERIODS: [u32; 3] = [1, 2, 4];
 
-/// The bounce skips samples less than this fraction of the depth (or the depth noise's
+/// The bounce skips samples less than this fraction of the depth (plus the depth noise's
 /// tolerance) above the receiver's tangent plane: they are its own surface, which a sample
 /// snapped off the slice can show a hair above the horizon (shaders/ssdo_bounce.wgsl).
 /// Relative to the depth, not the radius: the AO denoiser's plane tolerance (2% of the
@@ -81,9 +81,9 @@ pub struct SsdoOptions {
 impl Default for SsdoOptions {
     /// 2 slices × 4 steps per pixel over 2 × 2 pixel classes: 8 slice directions per tile.
     /// Measured on the nine shared views against the extended ray tracer (docs/ssdo.md):
-    /// the 2 × 2 merge beat the 4 × 4 one at the same cost (0.0127 against 0.0134 RMSE at
-    /// albedo 0.5, 0.0310 against 0.0354 at albedo 1; its interpolation spans fewer pixels
-    /// across edges); 4 slices cost 21% more for 2–6% less error, 1 slice saved 6% for
+    /// the 2 × 2 merge beat the 4 × 4 one and cost less (0.0127 against 0.0134 RMSE at
+    /// albedo 0.5, 0.0310 against 0.0354 at albedo 1, 64 against 72 ms at 640×400 on
+    /// lavapipe; its interpolation spans fewer pixels across edges); 4 slices cost 21% more for 2–6% less error, 1 slice saved 6% for
     /// 11–25% more.
     fn default() -> Self {
         Self {
@@ -96,7 +96,8 @@ impl Default for SsdoOptions {
 }
 
 impl SsdoOptions {
-    fn validate(&self) -> Result<()> {
+    /// Checks the period, directions and steps ([`Ssdo::new`] does).
+    pub fn validate(&self) -> Result<()> {
         let bad = |field, value: u32, expected| {
             Err(Error::InvalidSetting {
                 field,
@@ -155,7 +156,7 @@ pub struct SsdoInputs<'a> {
 pub struct SsdoLighting {
     pub irradiance: IrradianceSh,
     /// Columns of the rotation from view space to world space (the inverse view matrix's
-    /// upper 3 × 3).
+    /// upper 3 × 3; orthonormal: a scaled matrix scales the irradiance's directions).
     pub view_to_world: [[f32; 3]; 3],
 }
 
@@ -506,16 +507,21 @@ impl Ssdo {
         self.sized.as_ref().map(|s| &s.output)
     }
 
-    /// The last frame's bounce irradiance (before the albedo), merged where it merges.
+    /// The last frame's bounce irradiance (before the albedo), merged where it merges;
+    /// `None` before the first frame or without [`SsdoOptions::bounce`].
     pub fn bounce(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()
+            .filter(|_| self.options.bounce)
             .map(|s| s.merged.as_ref().map_or(&s.bounce, |[_, m]| m))
     }
 
-    /// The raw interleaved bounce before the merge.
+    /// The raw interleaved bounce before the merge (`None` as for [`Ssdo::bounce`]).
     pub fn bounce_raw(&self) -> Option<&wgpu::Texture> {
-        self.sized.as_ref().map(|s| &s.bounce)
+        self.sized
+            .as_ref()
+            .filter(|_| self.options.bounce)
+            .map(|s| &s.bounce)
     }
 
     /// GPU objects created so far: constant once frames repeat with the same textures.
