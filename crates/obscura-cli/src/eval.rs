@@ -727,17 +727,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             None => {
                 let t = Instant::now();
                 let bvh = Bvh::new(obscura_eval::triangles(&mesh));
-                let last = std::sync::atomic::AtomicUsize::new(0);
-                let r = obscura_eval::trace_view(&bvh, &cam, w, h, &settings, &|done, total| {
-                    let pct = done * 10 / total;
-                    if last.fetch_max(pct, std::sync::atomic::Ordering::Relaxed) < pct {
-                        eprintln!(
-                            "  reference: {}% ({:.0} s)",
-                            pct * 10,
-                            t.elapsed().as_secs_f64()
-                        );
-                    }
-                });
+                let r =
+                    obscura_eval::trace_view(&bvh, &cam, w, h, &settings, &tenths("reference", t));
                 eprintln!(
                     "  reference: {}x{} × {} rays in {:.1} s, mean standard error {:.4}",
                     w,
@@ -1165,8 +1156,24 @@ fn relative_dir(dir: &Path, md: &Path) -> String {
     }
 }
 
+/// A tracer's progress callback: prints `  LABEL: N% (T s)` at each tenth of the rows,
+/// T counted from `start`.
+pub(crate) fn tenths(label: &str, start: Instant) -> impl Fn(usize, usize) + Sync + '_ {
+    let last = std::sync::atomic::AtomicUsize::new(0);
+    move |done, total| {
+        let pct = done * 10 / total;
+        if last.fetch_max(pct, std::sync::atomic::Ordering::Relaxed) < pct {
+            eprintln!(
+                "  {label}: {}% ({:.0} s)",
+                pct * 10,
+                start.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
+
 /// Box-filters `img` by `scale` (1/scale rounded to an integer factor).
-fn shrink(img: &[[f32; 3]], w: u32, h: u32, scale: f32) -> (Vec<[f32; 3]>, u32, u32) {
+pub(crate) fn shrink(img: &[[f32; 3]], w: u32, h: u32, scale: f32) -> (Vec<[f32; 3]>, u32, u32) {
     let f = (1.0 / scale).round().max(1.0) as u32;
     let (ow, oh) = ((w / f).max(1), (h / f).max(1));
     let mut out = vec![[0.0; 3]; (ow * oh) as usize];

@@ -436,7 +436,8 @@ fn virtual_lights(mesh: &Mesh, count: u32, seed: u32, diagonal: f32) -> Vec<Poin
         .collect()
 }
 
-fn read_rgb(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>> {
+/// The texels of an `Rgba32Float` texture.
+pub(crate) fn read_rgb(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>> {
     Ok(ctx
         .read_f32(texture)?
         .chunks_exact(4)

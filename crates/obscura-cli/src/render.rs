@@ -723,7 +723,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         eprintln!("wrote {} ({w}x{h})", path.display());
     }
     if let (Some(path), Some(g), Some(env)) = (&a.ssdo, &gbuffer, &env) {
-        let lighting = crate::ssdo::lighting(env, &cam);
+        let lighting = crate::ssdo::lighting(&env.irradiance_sh(), &cam);
         let options = obscura::SsdoOptions::default();
         let (rgb, ms) = crate::ssdo::shade(&ctx, &ao, g, &frame, &lighting, options, a.runs)?;
         eprintln!(

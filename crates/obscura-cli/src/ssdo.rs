@@ -8,10 +8,10 @@
 use crate::eval::{camera_for, median, EvalArgs, Job};
 use crate::output::{save_png, write_text};
 use anyhow::{bail, Context, Result};
-use glam::{Mat3, Vec3};
+use glam::Mat3;
 use obscura::{
-    Ao, AoOptions, AoParams, Environment, EnvironmentMap, Estimator, GpuContext, Ssdo, SsdoInputs,
-    SsdoLighting, SsdoOptions,
+    Ao, AoOptions, AoParams, Environment, EnvironmentMap, Estimator, GpuContext, IrradianceSh,
+    Ssdo, SsdoInputs, SsdoLighting, SsdoOptions,
 };
 use obscura_eval::cache::{self, Fnv};
 use obscura_eval::{Bvh, Falloff, PixelSampling, ReferenceSsdo, TraceSettings};
@@ -92,10 +92,11 @@ fn env_hash(env: &Environment, f: &mut Fnv) {
     };
 }
 
-/// The camera's view-to-world rotation and the environment's harmonics.
-pub fn lighting(env: &Environment, cam: &Camera) -> SsdoLighting {
+/// The camera's view-to-world rotation and the environment's harmonics (computed once per
+/// environment: `Environment::irradiance_sh`).
+pub fn lighting(irradiance: &IrradianceSh, cam: &Camera) -> SsdoLighting {
     SsdoLighting {
-        irradiance: env.irradiance_sh(),
+        irradiance: *irradiance,
         view_to_world: Mat3::from_mat4(cam.view_matrix().inverse()).to_cols_array_2d(),
     }
 }
@@ -146,10 +147,10 @@ fn read_rgb(ctx: &GpuContext, t: &wgpu::Texture) -> Result<Vec<[f32; 3]>> {
 
 /// The rgb of an SSDO output, and where its alpha marks a surface.
 fn read_rgba(ctx: &GpuContext, t: &wgpu::Texture) -> Result<(Vec<[f32; 3]>, Vec<bool>)> {
-    let v = ctx.read_f32(t)?;
+    let v = crate::lights::read_rgb(ctx, t)?;
     Ok((
-        v.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect(),
-        v.chunks_exact(4).map(|c| c[3] > 0.0).collect(),
+        v.iter().map(|c| [c[0], c[1], c[2]]).collect(),
+        v.iter().map(|c| c[3] > 0.0).collect(),
     ))
 }
 
@@ -193,6 +194,7 @@ pub fn save_radiance(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32) -> Result<()
 fn reference(
     a: &EvalArgs,
     env: &Environment,
+    irradiance: &IrradianceSh,
     scene_bytes: &[u8],
     mesh: &Mesh,
     cam: &Camera,
@@ -228,17 +230,16 @@ fn reference(
     let t = Instant::now();
     let bvh = Bvh::new(obscura_eval::triangles(mesh));
     let colours = mesh.triangle_colours();
-    let last = std::sync::atomic::AtomicUsize::new(0);
-    let r = obscura_eval::trace_ssdo_view(&bvh, &colours, env, cam, w, h, settings, &|d, total| {
-        let pct = d * 10 / total;
-        if last.fetch_max(pct, std::sync::atomic::Ordering::Relaxed) < pct {
-            eprintln!(
-                "  {name} reference: {}% ({:.0} s)",
-                pct * 10,
-                t.elapsed().as_secs_f64()
-            );
-        }
-    });
+    let label = format!("{name} reference");
+    let r = obscura_eval::trace_ssdo_view(
+        &bvh,
+        &colours,
+        (env, irradiance),
+        cam,
+        (w, h),
+        settings,
+        &crate::eval::tenths(&label, t),
+    );
     eprintln!(
         "  reference: {w}x{h} × {} rays in {:.1} s",
         settings.rays,
@@ -351,6 +352,7 @@ fn errors(got: &[[f32; 3]], want: &[[f32; 3]], mask: &[bool]) -> (f64, f64) {
 /// reference.
 pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
     let env = parse_env(&a.env)?;
+    let irradiance = env.irradiance_sh();
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
@@ -385,7 +387,16 @@ pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
             job.name,
             mesh.triangle_count()
         );
-        let truth = reference(a, &env, &bytes, &mesh, &cam, &settings, &job.name)?;
+        let truth = reference(
+            a,
+            &env,
+            &irradiance,
+            &bytes,
+            &mesh,
+            &cam,
+            &settings,
+            &job.name,
+        )?;
         let gpu_mesh = raster.upload(&ctx, &mesh)?;
         let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
         let input = g.ao_input(&cam, true);
@@ -393,7 +404,7 @@ pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
             radius,
             ..Default::default()
         };
-        let light = lighting(&env, &cam);
+        let light = lighting(&irradiance, &cam);
         let ones = ctx.upload_r32("ones", &vec![1.0; (w * h) as usize], w, h);
         for (m, &mode) in a.modes.iter().enumerate() {
             let options = AoOptions {
@@ -512,21 +523,8 @@ pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
 
 /// Writes `rgb` (w × h) as an sRGB PNG shrunk by `scale` (box filter).
 fn save_scaled(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32, scale: f32) -> Result<()> {
-    let k = (1.0 / scale).round().max(1.0) as u32;
-    let (sw, sh) = (w / k, h / k);
-    let mut out = Vec::with_capacity((sw * sh) as usize);
-    for y in 0..sh {
-        for x in 0..sw {
-            let mut s = Vec3::ZERO;
-            for dy in 0..k {
-                for dx in 0..k {
-                    s += Vec3::from(rgb[((y * k + dy) * w + x * k + dx) as usize]);
-                }
-            }
-            out.push((s / (k * k) as f32).to_array());
-        }
-    }
-    save_radiance(path, &out, sw, sh)
+    let (small, sw, sh) = crate::eval::shrink(rgb, w, h, scale);
+    save_radiance(path, &small, sw, sh)
 }
 
 /// The rows as a markdown table, then the mean over views per layout and variant.

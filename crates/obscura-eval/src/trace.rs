@@ -101,25 +101,40 @@ pub fn ao_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32,
     (ao, se)
 }
 
-/// [`ao_at`] and the sum of the ray directions weighted by their visibility (1 − their
-/// occlusion), whose direction is the bent normal (zero when every ray is occluded).
-pub fn ao_bent_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32, f32, Vec3) {
+/// The rays of a surface point `p` with unit normal `n`: the origin, raised off the
+/// surface relative to the radius and to float precision at this distance from the world
+/// origin, and `s.rays` cosine-weighted directions (Malley's method over a stratified 2D
+/// set, rotated per `seed`, Cranley–Patterson).
+fn hemisphere_rays(
+    p: Vec3,
+    n: Vec3,
+    s: &TraceSettings,
+    seed: u32,
+) -> (Vec3, impl Iterator<Item = Vec3>) {
     let (t, b) = basis(n);
     let rot = (
         hash(seed) as f32 / 4294967296.0,
         hash(seed ^ 0x9e37_79b9) as f32 / 4294967296.0,
     );
-    // Offset the origin off the surface, relative to the radius and to float precision
-    // at this distance from the origin.
     let origin = p + n * (1e-4 * s.radius + 4.0 * f32::EPSILON * p.abs().max_element());
-    let inv_r2 = 1.0 / (s.radius * s.radius);
-    let (mut sum, mut sum2, mut bent) = (0.0f64, 0.0f64, Vec3::ZERO);
-    for i in 0..s.rays {
-        let u1 = ((i as f32 + 0.5) / s.rays as f32 + rot.0).fract();
+    let rays = s.rays;
+    let dirs = (0..rays).map(move |i| {
+        let u1 = ((i as f32 + 0.5) / rays as f32 + rot.0).fract();
         let u2 = (radical_inverse(i) + rot.1).fract();
         let r = u1.sqrt();
         let phi = std::f32::consts::TAU * u2;
-        let dir = t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt();
+        t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()
+    });
+    (origin, dirs)
+}
+
+/// [`ao_at`] and the sum of the ray directions weighted by their visibility (1 − their
+/// occlusion), whose direction is the bent normal (zero when every ray is occluded).
+pub fn ao_bent_at(bvh: &Bvh, p: Vec3, n: Vec3, s: &TraceSettings, seed: u32) -> (f32, f32, Vec3) {
+    let (origin, dirs) = hemisphere_rays(p, n, s, seed);
+    let inv_r2 = 1.0 / (s.radius * s.radius);
+    let (mut sum, mut sum2, mut bent) = (0.0f64, 0.0f64, Vec3::ZERO);
+    for dir in dirs {
         let occ = match bvh.closest(origin, dir, s.radius) {
             None => 0.0,
             Some((d, _)) => match s.falloff {
@@ -348,19 +363,9 @@ pub fn ssdo_at(
     s: &TraceSettings,
     seed: u32,
 ) -> Vec3 {
-    let (t, b) = basis(n);
-    let rot = (
-        hash(seed) as f32 / 4294967296.0,
-        hash(seed ^ 0x9e37_79b9) as f32 / 4294967296.0,
-    );
-    let origin = p + n * (1e-4 * s.radius + 4.0 * f32::EPSILON * p.abs().max_element());
+    let (origin, dirs) = hemisphere_rays(p, n, s, seed);
     let mut e = Vec3::ZERO;
-    for i in 0..s.rays {
-        let u1 = ((i as f32 + 0.5) / s.rays as f32 + rot.0).fract();
-        let u2 = (radical_inverse(i) + rot.1).fract();
-        let r = u1.sqrt();
-        let phi = std::f32::consts::TAU * u2;
-        let dir = t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt();
+    for dir in dirs {
         e += match bvh.closest(origin, dir, s.radius) {
             None => Vec3::from(env.radiance(dir.to_array())),
             Some((_, tri)) => {
@@ -380,20 +385,20 @@ pub fn ssdo_at(
 }
 
 /// Traces [`ssdo_at`] for every pixel centre of `camera`'s view at `width` × `height`.
-/// `triangle_albedo` is per triangle in the order given to [`Bvh::new`].
-#[allow(clippy::too_many_arguments)]
+/// `triangle_albedo` is per triangle in the order given to [`Bvh::new`]; `lighting` is the
+/// environment and its [`obscura::Environment::irradiance_sh`], computed once by the
+/// caller (a map's projection visits every texel).
 pub fn trace_ssdo_view(
     bvh: &Bvh,
     triangle_albedo: &[[f32; 3]],
-    env: &obscura::Environment,
+    lighting: (&obscura::Environment, &obscura::IrradianceSh),
     camera: &Camera,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     s: &TraceSettings,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> ReferenceSsdo {
     let primary = Primary::new(camera, width, height);
-    let irradiance = env.irradiance_sh();
+    let (env, irradiance) = lighting;
     let done = AtomicUsize::new(0);
     type SsdoRow = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<f32>);
     let rows: Vec<SsdoRow> = (0..height)
@@ -414,7 +419,7 @@ pub fn trace_ssdo_view(
                     bvh,
                     triangle_albedo,
                     env,
-                    &irradiance,
+                    irradiance,
                     h.point,
                     h.normal,
                     Vec3::from(a),
