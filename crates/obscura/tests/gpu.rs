@@ -1486,31 +1486,59 @@ fn mixed_resolution_matches_cpu_reference() {
                     ..options
                 });
                 if upsampler == Upsampler::Bilateral {
-                    assert_eq!(fused.prepared, r.prepared, "{what}: fused full resolution");
+                    assert_rounding_only(
+                        &flat(&fused.prepared),
+                        &flat(&r.prepared),
+                        &format!("{what}: fused full resolution"),
+                    );
                 } else if params.depth_noise.is_none() {
                     let depth: Vec<f32> = r.prepared.iter().map(|v| v.x).collect();
-                    assert_eq!(fused.linear_depth, depth, "{what}: fused linear depth");
+                    assert_rounding_only(
+                        &fused.linear_depth,
+                        &depth,
+                        &format!("{what}: fused linear depth"),
+                    );
                 }
                 if upsampler == Upsampler::Bilateral || params.depth_noise.is_none() {
-                    assert_eq!(fused.levels, r.levels, "{what}: fused levels");
-                    assert_eq!(fused.ao, r.ao, "{what}: fused AO");
+                    assert_eq!(fused.levels.len(), r.levels.len(), "{what}: fused levels");
+                    for (f, u) in fused.levels.iter().zip(&r.levels) {
+                        assert_rounding_only(&flat(f), &flat(u), &format!("{what}: fused levels"));
+                    }
+                    assert_rounding_only(&fused.ao, &r.ao, &format!("{what}: fused AO"));
                 }
+                // Each level from the GPU's own level above it (the prepared buffer for the
+                // first): a rule that compares depths (representative, checkerboard's
+                // min/max) may flip a near tie when its input is a few ulps off the
+                // mirror's, as on hardware.
                 let mut size = [W, H];
                 let mut level = r.prepared.clone();
                 for (k, gpu) in r.levels.iter().enumerate() {
+                    let above = if k == 0 {
+                        &r.prepared
+                    } else {
+                        &r.levels[k - 1]
+                    };
                     (size, level) =
-                        reference::downsample(rule, &r.frame, k as u32 + 1, true, size, &level);
-                    assert_eq!(gpu, &level, "{what}: level {}", k + 1);
+                        reference::downsample(rule, &r.frame, k as u32 + 1, true, size, above);
+                    assert_rounding_only_but_ties(
+                        &flat(gpu),
+                        &flat(&level),
+                        &format!("{what}: level {}", k + 1),
+                    );
                 }
                 assert_eq!(size, [W, H].map(|s| s.div_ceil(resolution.factor())));
                 let pyramid = reference::pyramid([W, H], &r.prepared);
+                // From the GPU's own low-resolution level, as the AO is: the nearest-depth
+                // and classified upsamplers compare depths, and a level a few ulps off the
+                // mirror's (FMA contraction on hardware) can flip a near tie between two
+                // equally valid picks.
                 let cpu = reference::upsample(
                     upsampler,
                     &r.frame,
                     &r.prepared,
                     size,
                     &r.work_ao,
-                    &level,
+                    r.levels.last().unwrap_or(&level),
                     &pyramid,
                 );
                 let close =
@@ -3031,6 +3059,61 @@ fn assert_close(gpu: &[Vec3], cpu: &[Vec3], what: &str) {
     );
 }
 
+/// The components of `v`, in order.
+fn flat(v: &[Vec4]) -> Vec<f32> {
+    v.iter().flat_map(|x| x.to_array()).collect()
+}
+
+/// Results that may differ only in how a shader compiler rounds the same arithmetic: another
+/// pipeline variant (fused or not, bent normals on or off) or a CPU mirror of the same
+/// expressions. lavapipe gives the same bits; hardware compilers contract `a * b + c` into
+/// fused multiply-adds differently per pipeline, which moves results by a few ulps (seen on an
+/// NVIDIA H100). Every value within 1e-5 of the expected one, relative to max(|expected|, 1);
+/// equal non-finite values (sky) pass, a non-finite value against a finite one fails.
+fn assert_rounding_only(got: &[f32], want: &[f32], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}: size");
+    let mut worst = (0, 0.0f32);
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        let d = if g.to_bits() == w.to_bits() {
+            0.0
+        } else if g.is_finite() && w.is_finite() {
+            (g - w).abs() / w.abs().max(1.0)
+        } else {
+            f32::INFINITY
+        };
+        if d > worst.1 {
+            worst = (i, d);
+        }
+    }
+    let (i, d) = worst;
+    assert!(
+        d <= 1e-5,
+        "{what}: value {i} is {} where {} was expected ({d:e} relative)",
+        got[i],
+        want[i]
+    );
+}
+
+/// As [`assert_rounding_only`] for the results of comparisons (a downsampling rule's pick):
+/// at most 0.5% of values may differ by more, where a near tie flipped between two valid
+/// picks (seen on an NVIDIA H100; lavapipe gives the mirror's bits).
+fn assert_rounding_only_but_ties(got: &[f32], want: &[f32], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}: size");
+    let off = got
+        .iter()
+        .zip(want)
+        .filter(|(g, w)| {
+            g.to_bits() != w.to_bits()
+                && !(g.is_finite() && w.is_finite() && (*g - *w).abs() <= 1e-5 * w.abs().max(1.0))
+        })
+        .count();
+    assert!(
+        off * 200 <= got.len(),
+        "{what}: {off} of {} values beyond rounding",
+        got.len()
+    );
+}
+
 #[test]
 fn bent_normals_match_cpu_reference_in_every_layout() {
     let _g = lock();
@@ -3086,7 +3169,11 @@ fn bent_normals_match_cpu_reference_in_every_layout() {
                     bent_normals: false,
                     ..options
                 });
-                assert_eq!(r.ao, plain.ao, "{options:?}: bent normals changed the AO");
+                assert_rounding_only(
+                    &r.ao,
+                    &plain.ao,
+                    &format!("{options:?}: bent normals changed the AO"),
+                );
                 let (work, prepared) = match resolution {
                     Resolution::Full => (r.frame, full.clone()),
                     _ => (
