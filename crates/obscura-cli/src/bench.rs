@@ -4,14 +4,15 @@
 //! dispatches) the wall clock around submit + wait of each pass. Medians and ratios to the
 //! first variant (the randomized single pass, or full resolution with `--compare resolutions`).
 
-use crate::output::{check_png_path, write_text};
+use crate::output::{check_png_path, fmt_ms, write_text};
 use crate::render::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use obscura::{Ao, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
+use obscura::{Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// What the variants of a benchmark differ in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -223,8 +224,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
                     .collect();
                 let _ = write!(
                     line,
-                    " {name} {:.1} ms ({:.2}x)",
-                    medians[i],
+                    " {name} {} ms ({:.2}x)",
+                    fmt_ms(medians[i]),
                     base / medians[i]
                 );
                 records.push(Record {
@@ -250,6 +251,31 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         eprintln!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// One AO frame, run and timed: the sum of its passes' GPU timestamps on hardware adapters
+/// (the AO's own GPU time, what a budget is about; the wall clock there adds submission and
+/// wake-up latency of about half a millisecond, measured on an H100), else the wall clock
+/// around submit + wait (lavapipe, whose timestamps do not bracket dispatches).
+pub(crate) fn frame_ms(
+    ctx: &GpuContext,
+    ao: &mut Ao,
+    input: &AoInput<'_>,
+    params: &AoParams,
+    timing: Timing,
+) -> Result<f64> {
+    Ok(match timing {
+        Timing::Timestamps => ao
+            .run_timed(ctx, input, params, timing)?
+            .iter()
+            .map(|p| p.1)
+            .sum(),
+        Timing::WallClock => {
+            let t = Instant::now();
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, input, params))?;
+            t.elapsed().as_secs_f64() * 1e3
+        }
+    })
 }
 
 fn check_svg_path(p: &Path) -> Result<()> {
@@ -279,7 +305,7 @@ fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
             row[0].width, row[0].height, row[0].radius_px
         );
         for r in row {
-            let _ = write!(s, " {:.1} ({:.2}×) |", r.median_ms, 1.0 / r.ratio);
+            let _ = write!(s, " {} ({:.2}×) |", fmt_ms(r.median_ms), 1.0 / r.ratio);
         }
         s.push('\n');
     }
@@ -288,7 +314,7 @@ fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
         let passes: Vec<String> = r
             .passes
             .iter()
-            .map(|(l, t)| format!("{l} {t:.1}"))
+            .map(|(l, t)| format!("{l} {}", fmt_ms(*t)))
             .collect();
         let _ = writeln!(
             s,
@@ -317,11 +343,11 @@ fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs, base: &AoOptions) -
         let passes: Vec<String> = r
             .passes
             .iter()
-            .map(|(l, t)| format!("\"{l}\": {t:.3}"))
+            .map(|(l, t)| format!("\"{l}\": {t:.4}"))
             .collect();
         let _ = writeln!(
             s,
-            "    {{\"variant\": \"{}\", \"width\": {}, \"height\": {}, \"radius_px\": {}, \"median_ms\": {:.3}, \"ratio_to_baseline\": {:.4}, \"passes_ms\": {{{}}}}}{}",
+            "    {{\"variant\": \"{}\", \"width\": {}, \"height\": {}, \"radius_px\": {}, \"median_ms\": {:.4}, \"ratio_to_baseline\": {:.4}, \"passes_ms\": {{{}}}}}{}",
             r.variant,
             r.width,
             r.height,

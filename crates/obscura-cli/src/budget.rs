@@ -5,13 +5,13 @@
 
 use anyhow::{Context, Result};
 use obscura::budget::BudgetController;
-use obscura::{Ao, AoOptions, AoParams, CameraMotion, GpuContext, Preset, Resolution};
+use obscura::{Ao, AoOptions, AoParams, CameraMotion, GpuContext, Preset, Resolution, Timing};
 use obscura_scene::{Camera, GBufferRenderer, GpuMesh};
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
 
-use crate::output::save_ao;
+use crate::bench::frame_ms;
+use crate::output::{fmt_ms, save_ao};
 use crate::render::{orbit_turn, NormalSource, RenderArgs};
 
 /// The ladder, from the most error to the least: working resolution and preset. The order
@@ -89,14 +89,13 @@ pub fn orbit(
     }
     // Median of three runs per level, interleaved (CPU adapters' times vary by ±20%).
     let mut runs = vec![Vec::new(); levels.len()];
+    let timing = Timing::best_for(ctx);
     for _ in 0..3 {
         for (ao, times) in levels.iter_mut().zip(&mut runs) {
-            let t = Instant::now();
-            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
-            times.push(t.elapsed().as_secs_f64() * 1e3);
+            times.push(frame_ms(ctx, ao, &input, params, timing)?);
         }
     }
-    let mut nominal: Vec<f64> = runs
+    let nominal: Vec<f64> = runs
         .into_iter()
         .map(|mut t| {
             t.sort_by(f64::total_cmp);
@@ -107,19 +106,30 @@ pub fn orbit(
     eprintln!(
         "budget: {budget_ms} ms per frame; levels (measured on the first view): {}",
         (0..levels.len())
-            .map(|k| format!("{k} {} {:.1} ms", name(k), nominal[k]))
+            .map(|k| format!("{k} {} {} ms", name(k), fmt_ms(nominal[k])))
             .collect::<Vec<_>>()
             .join(", ")
     );
-    // Nominal costs must rise with the level; a flat or inverted pair (timing noise) is
-    // lifted just above the one below.
-    for k in 1..nominal.len() {
-        nominal[k] = nominal[k].max(nominal[k - 1] * 1.001);
+    // A level that costs at least as much as some better level is dominated: on a GPU the
+    // full-resolution passes set a floor, so half ultra costs more than full low
+    // (BENCHMARKS.md, "On a hardware GPU"); on lavapipe timing noise can invert a close
+    // pair. The controller steps over the levels cheaper than every level above them.
+    let kept: Vec<usize> = (0..nominal.len())
+        .filter(|&k| nominal[k + 1..].iter().all(|&c| nominal[k] < c))
+        .collect();
+    if kept.len() < nominal.len() {
+        eprintln!(
+            "budget: skipping dominated levels (a better level costs no more): {}",
+            (0..nominal.len())
+                .filter(|k| !kept.contains(k))
+                .map(|k| format!("{k} {}", name(k)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
-    let mut control = BudgetController::new(budget_ms, &nominal).with_context(|| {
-        format!(
-            "no controller for a {budget_ms} ms budget over the measured level costs {nominal:?}"
-        )
+    let costs: Vec<f64> = kept.iter().map(|&k| nominal[k]).collect();
+    let mut control = BudgetController::new(budget_ms, &costs).with_context(|| {
+        format!("no controller for a {budget_ms} ms budget over the measured level costs {costs:?}")
     })?;
     let n = a.frames;
     let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
@@ -128,7 +138,7 @@ pub fn orbit(
         let c = cam.orbit(orbit_turn(degrees, k, n));
         let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
         let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
-        let level = control.level();
+        let level = kept[control.level()];
         let ao = &mut levels[level];
         // A level's history is from the last frame it ran, not the previous one: restart it.
         let motion = match previous {
@@ -140,17 +150,16 @@ pub fn orbit(
             None => CameraMotion::Cut,
         };
         let p = AoParams { motion, ..*params };
-        let t = Instant::now();
-        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let ms = frame_ms(ctx, ao, &input, &p, timing)?;
         control.update(ms);
         frames.push((level, ms));
         let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
         let path = dir.join(format!("frame_{k:04}.png"));
         save_ao(&path, &values, a.width, a.height, a.bits)?;
         eprintln!(
-            "frame {k:4}: level {level} ({}) {ms:6.1} ms ({:+.0}% of the budget)",
+            "frame {k:4}: level {level} ({}) {:>6} ms ({:+.0}% of the budget)",
             name(level),
+            fmt_ms(ms),
             (ms / budget_ms - 1.0) * 100.0
         );
         previous = Some((c, level));
@@ -162,16 +171,16 @@ pub fn orbit(
     let mut times: Vec<f64> = frames.iter().map(|f| f.1).collect();
     times.sort_by(f64::total_cmp);
     eprintln!(
-        "budget: {within} of {n} frames within ±15% of {budget_ms} ms; median {:.1} ms, \
+        "budget: {within} of {n} frames within ±15% of {budget_ms} ms; median {} ms, \
          {} level changes",
-        times[times.len() / 2],
+        fmt_ms(times[times.len() / 2]),
         frames.windows(2).filter(|w| w[0].0 != w[1].0).count()
     );
     let mut csv = String::from("frame,level,resolution,preset,ms\n");
     for (k, (level, ms)) in frames.iter().enumerate() {
         let _ = writeln!(
             csv,
-            "{k},{level},{},{},{ms:.3}",
+            "{k},{level},{},{},{ms:.4}",
             LADDER[*level].0.name(),
             preset_name(LADDER[*level].1)
         );
@@ -223,9 +232,10 @@ fn plot(frames: &[Frame], budget_ms: f64, name: &dyn Fn(usize) -> String) -> Str
         let t = tmax * k as f64 / 4.0;
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{t:.0}</text>",
+            "<text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>",
             left - 4.0,
-            yt(t) + 4.0
+            yt(t) + 4.0,
+            fmt_ms(t)
         );
     }
     for l in 0..LADDER.len() {

@@ -6,7 +6,7 @@
 //! table when asked.
 
 use crate::eval::{camera_for, median, Job, ViewArgs};
-use crate::output::{save_png, write_text};
+use crate::output::{fmt_ms, save_png, write_text};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use glam::Vec3;
@@ -531,10 +531,10 @@ fn table(a: &LightsArgs, count: usize, rows: &[Row]) -> String {
         }
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.2}× | {} | {} |",
+            "| {} | {} | {} | {:.2}× | {} | {} |",
             r.view,
             r.variant.label(),
-            r.ms,
+            fmt_ms(r.ms),
             all_ms / r.ms,
             error_cell(r.variant, r.error),
             error_cell(r.variant, r.display)
@@ -552,12 +552,13 @@ fn table(a: &LightsArgs, count: usize, rows: &[Row]) -> String {
         let all_mean = mean(rows.iter().filter(|r| r.variant.period == 1).map(|r| r.ms));
         for v in variants {
             let sel = || rows.iter().filter(move |r| r.variant == v);
-            let ms = mean(sel().map(|r| r.ms));
+            let t = mean(sel().map(|r| r.ms));
             let _ = writeln!(
                 s,
-                "| {} | {ms:.1} | {:.2}× | {} | {} |",
+                "| {} | {} | {:.2}× | {} | {} |",
                 v.label(),
-                all_mean / ms,
+                fmt_ms(t),
+                all_mean / t,
                 error_cell(v, mean(sel().map(|r| r.error))),
                 error_cell(v, mean(sel().map(|r| r.display)))
             );

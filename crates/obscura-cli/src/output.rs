@@ -170,6 +170,21 @@ fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
     r.with_context(|| format!("cannot write `{}`", path.display()))
 }
 
+/// A time in milliseconds to about three significant digits, so sub-millisecond GPU times
+/// and lavapipe's hundreds of milliseconds both read: 0.0123, 0.456, 4.56, 45.6, 456.7.
+pub fn fmt_ms(t: f64) -> String {
+    let decimals = if t < 0.1 {
+        4
+    } else if t < 1.0 {
+        3
+    } else if t < 10.0 {
+        2
+    } else {
+        1
+    };
+    format!("{t:.decimals$}")
+}
+
 /// Writes `text` to `path` atomically.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_bytes(path, text.as_bytes())

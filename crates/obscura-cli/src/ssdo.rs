@@ -6,7 +6,7 @@
 //! after a warm-up, median).
 
 use crate::eval::{camera_for, median, EvalArgs, Job};
-use crate::output::{save_png, write_text};
+use crate::output::{fmt_ms, save_png, write_text};
 use anyhow::{bail, Context, Result};
 use glam::Mat3;
 use obscura::{
@@ -541,13 +541,13 @@ fn table(rows: &[Row]) -> String {
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {:.1} |",
+            "| {} | {} | {} | {} | {} | {} |",
             r.view,
             r.mode,
             r.variant,
             num(r.rmse).trim_start_matches('+'),
             num(r.bias),
-            r.ms
+            fmt_ms(r.ms)
         );
     }
     let mut keys: Vec<(String, String)> = Vec::new();
@@ -568,10 +568,10 @@ fn table(rows: &[Row]) -> String {
         let mean = |f: fn(&Row) -> f64| sel.iter().map(|r| f(r)).sum::<f64>() / sel.len() as f64;
         let _ = writeln!(
             s,
-            "| {mode} | {variant} | {} | {} | {:.1} |",
+            "| {mode} | {variant} | {} | {} | {} |",
             num(mean(|r| r.rmse)).trim_start_matches('+'),
             num(mean(|r| r.bias)),
-            mean(|r| r.ms)
+            fmt_ms(mean(|r| r.ms))
         );
     }
     s
