@@ -376,8 +376,11 @@ pub struct AoOptions {
     /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved2`, the best
     /// quality per millisecond measured at full resolution (BENCHMARKS.md,
     /// docs/quality.md): never slower than the single pass, 1.4–2× faster at large radii,
-    /// error within 1–2% of it. `Deinterleaved4` is faster still at large on-screen radii
-    /// (2–2.9×) but loses detail when the radius spans few pixels. Below full resolution
+    /// error within 1–2% of it (on an NVIDIA H100: 1.12–1.89×). `Deinterleaved4` is faster
+    /// still on lavapipe at large on-screen radii (2–2.9×) but loses detail when the radius
+    /// spans few pixels; on the H100 it is slower than the single pass at small radii and
+    /// at best 1.34× (unfused), as its 16-layer split and denoise cost more than they save
+    /// (BENCHMARKS.md, "On a hardware GPU"). Below full resolution
     /// prefer `Randomized`: a layer's samples are then N low-resolution texels (2N pixels)
     /// apart and the error rises (half resolution, bilateral: mean RMSE 0.095 against
     /// 0.079, docs/mixed-resolution.md) for 7% less time.
@@ -386,8 +389,10 @@ pub struct AoOptions {
     /// prepare pass writes the layers and the AO pass writes full resolution directly;
     /// below full resolution the prepare pass writes the first downsampled level (and
     /// full-resolution linear depth) itself. False: separate split, merge and downsample
-    /// passes over full-resolution intermediates, with identical results (kept to measure
-    /// the difference; tests compare the two).
+    /// passes over full-resolution intermediates, with the same results up to rounding
+    /// (kept to measure the difference; tests compare the two). On an NVIDIA H100 unfused
+    /// is 1.09–1.27× faster with `Deinterleaved4` and fused 1.05–1.09× faster with
+    /// `Deinterleaved2` (BENCHMARKS.md, "On a hardware GPU").
     pub fused: bool,
     /// Per-pixel (or per-layer) rotation and offset of the samples (true, default). False:
     /// every pixel samples the same fixed pattern (rotation half a sector, offset ½) — the
