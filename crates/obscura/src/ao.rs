@@ -660,16 +660,18 @@ fn storage_entry(
     }
 }
 
-const UNIFORM_ENTRY: wgpu::BindGroupLayoutEntry = wgpu::BindGroupLayoutEntry {
-    binding: 0,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-};
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
 
 const UNFILTERED: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
 const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
@@ -804,14 +806,8 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         ],
         Pass::LightsShade { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
-            wgpu::BindGroupLayoutEntry {
-                binding: 2,
-                ..UNIFORM_ENTRY
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: 3,
-                ..UNIFORM_ENTRY
-            },
+            uniform_entry(2),
+            uniform_entry(3),
             storage_entry(4, LIT_FORMAT, D2),
         ],
         Pass::LightsMerge { layers } => vec![
@@ -822,19 +818,13 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         Pass::SsdoBounce { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
-            wgpu::BindGroupLayoutEntry {
-                binding: 3,
-                ..UNIFORM_ENTRY
-            },
+            uniform_entry(3),
             storage_entry(4, LIT_FORMAT, D2),
         ],
         Pass::SsdoCombine { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
-            wgpu::BindGroupLayoutEntry {
-                binding: 3,
-                ..UNIFORM_ENTRY
-            },
+            uniform_entry(3),
             texture_entry(4, UNFILTERED, D2),
             texture_entry(5, UNFILTERED, D2),
             texture_entry(6, UNFILTERED, D2),
@@ -863,7 +853,7 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let rest = rest
         .into_iter()
         .chain(pyramid.then(|| texture_entry(3, UNFILTERED, D2)));
-    std::iter::once(UNIFORM_ENTRY).chain(rest).collect()
+    std::iter::once(uniform_entry(0)).chain(rest).collect()
 }
 
 fn compile(device: &wgpu::Device, pass: Pass, options: &AoOptions) -> Compiled {

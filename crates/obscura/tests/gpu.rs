@@ -3072,26 +3072,33 @@ fn flat(v: &[Vec4]) -> Vec<f32> {
 /// equal non-finite values (sky) pass, a non-finite value against a finite one fails.
 fn assert_rounding_only(got: &[f32], want: &[f32], what: &str) {
     assert_eq!(got.len(), want.len(), "{what}: size");
-    let mut worst = (0, 0.0f32);
-    for (i, (g, w)) in got.iter().zip(want).enumerate() {
-        let d = if g.to_bits() == w.to_bits() {
-            0.0
-        } else if g.is_finite() && w.is_finite() {
-            (g - w).abs() / w.abs().max(1.0)
-        } else {
-            f32::INFINITY
-        };
-        if d > worst.1 {
-            worst = (i, d);
-        }
-    }
-    let (i, d) = worst;
+    let (i, d) = got
+        .iter()
+        .zip(want)
+        .map(|(g, w)| rounding_distance(*g, *w))
+        .enumerate()
+        .fold((0, 0.0f32), |m, (i, d)| if d > m.1 { (i, d) } else { m });
     assert!(
-        d <= 1e-5,
+        d <= ROUNDING,
         "{what}: value {i} is {} where {} was expected ({d:e} relative)",
         got[i],
         want[i]
     );
+}
+
+/// Differences up to this, relative to max(|expected|, 1), are rounding.
+const ROUNDING: f32 = 1e-5;
+
+/// `|got − want| / max(|want|, 1)`: 0 for the same bits (sky, NaN included), infinite for a
+/// non-finite value against another.
+fn rounding_distance(got: f32, want: f32) -> f32 {
+    if got.to_bits() == want.to_bits() {
+        0.0
+    } else if got.is_finite() && want.is_finite() {
+        (got - want).abs() / want.abs().max(1.0)
+    } else {
+        f32::INFINITY
+    }
 }
 
 /// As [`assert_rounding_only`] for the results of comparisons (a downsampling rule's pick):
@@ -3102,10 +3109,7 @@ fn assert_rounding_only_but_ties(got: &[f32], want: &[f32], what: &str) {
     let off = got
         .iter()
         .zip(want)
-        .filter(|(g, w)| {
-            g.to_bits() != w.to_bits()
-                && !(g.is_finite() && w.is_finite() && (*g - *w).abs() <= 1e-5 * w.abs().max(1.0))
-        })
+        .filter(|(g, w)| rounding_distance(**g, **w) > ROUNDING)
         .count();
     assert!(
         off * 200 <= got.len(),
