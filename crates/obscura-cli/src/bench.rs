@@ -197,6 +197,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             let params = AoParams {
                 radius: 1e6,
                 max_radius_px: r,
+                scale: a.resolution.scale,
                 ..Default::default()
             };
             let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];

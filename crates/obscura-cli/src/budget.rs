@@ -1,11 +1,16 @@
-//! `render --orbit ... --budget-ms X`: the orbit of `render --orbit`, each frame at the level
-//! of a ladder of AO settings that `obscura::budget::BudgetController` chooses to hold the
-//! budget; prints each frame's time and level, and writes `budget.csv` and `budget.svg`
-//! (time and level per frame) beside the frames.
+//! `render --orbit ... --budget-ms X`: the orbit of `render --orbit`, each frame at the
+//! working scale that `obscura::budget::ScaleController` chooses (`--budget-control scale`,
+//! the default) or at the level of a ladder of AO settings that
+//! `obscura::budget::BudgetController` chooses (`--budget-control ladder`) to hold the
+//! budget; prints each frame's time and scale or level, and writes `budget.csv` and
+//! `budget.svg` (time and knob per frame) beside the frames.
 
 use anyhow::{Context, Result};
-use obscura::budget::BudgetController;
-use obscura::{Ao, AoOptions, AoParams, CameraMotion, GpuContext, Preset, Resolution, Timing};
+use obscura::budget::{BudgetController, ScaleController};
+use obscura::{
+    Ao, AoOptions, AoParams, CameraMotion, Denoise, GpuContext, Preset, Resolution, Timing,
+    Upsampler,
+};
 use obscura_scene::{Camera, GBufferRenderer, GpuMesh};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -164,16 +169,9 @@ pub fn orbit(
         );
         previous = Some((c, level));
     }
-    let within = frames
-        .iter()
-        .filter(|f| (f.1 / budget_ms - 1.0).abs() <= 0.15)
-        .count();
-    let mut times: Vec<f64> = frames.iter().map(|f| f.1).collect();
-    times.sort_by(f64::total_cmp);
     eprintln!(
-        "budget: {within} of {n} frames within ±15% of {budget_ms} ms; median {} ms, \
-         {} level changes",
-        fmt_ms(times[times.len() / 2]),
+        "budget: {}, {} level changes",
+        summary(&frames.iter().map(|f| f.1).collect::<Vec<_>>(), budget_ms),
         frames.windows(2).filter(|w| w[0].0 != w[1].0).count()
     );
     let mut csv = String::from("frame,level,resolution,preset,ms\n");
@@ -185,26 +183,147 @@ pub fn orbit(
             preset_name(LADDER[*level].1)
         );
     }
+    let levels = LADDER.len() as f64;
+    let knob: Vec<f64> = frames.iter().map(|f| (f.0 as f64 + 0.5) / levels).collect();
+    let labels: Vec<(f64, String)> = (0..LADDER.len())
+        .map(|l| ((l as f64 + 0.5) / levels, format!("{l} {}", name(l))))
+        .collect();
+    let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
+    write_outputs(dir, &csv, &plot(&times, &knob, &labels, "level", budget_ms))
+}
+
+/// `frames within ±15% of the budget; median`, for the last line of a run.
+fn summary(times: &[f64], budget_ms: f64) -> String {
+    let within = times
+        .iter()
+        .filter(|t| (*t / budget_ms - 1.0).abs() <= 0.15)
+        .count();
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    format!(
+        "{within} of {} frames within ±15% of {budget_ms} ms; median {} ms",
+        times.len(),
+        fmt_ms(sorted[sorted.len() / 2])
+    )
+}
+
+/// Writes `budget.csv` and `budget.svg` to `dir`.
+fn write_outputs(dir: &Path, csv: &str, svg: &str) -> Result<()> {
     let csv_path = dir.join("budget.csv");
     std::fs::write(&csv_path, csv)
         .with_context(|| format!("cannot write `{}`", csv_path.display()))?;
     let svg_path = dir.join("budget.svg");
-    std::fs::write(&svg_path, plot(&frames, budget_ms, &name))
+    std::fs::write(&svg_path, svg)
         .with_context(|| format!("cannot write `{}`", svg_path.display()))?;
     eprintln!("wrote {}, {}", csv_path.display(), svg_path.display());
     Ok(())
 }
 
-/// Time per frame (line, left axis, with the budget and its ±15% band) and level per frame
-/// (steps, right axis).
-fn plot(frames: &[Frame], budget_ms: f64, name: &dyn Fn(usize) -> String) -> String {
+/// The scale the orbit starts at: half resolution's.
+const START_SCALE: f32 = 0.5;
+
+/// Runs the orbit under the budget with one `Ao` at `Resolution::Scaled`, whose working
+/// scale `ScaleController` sets every frame; `base` carries the estimator, preset, layout,
+/// denoiser and history (the upsampler is the bilateral one, the only one at any scale).
+#[allow(clippy::too_many_arguments)]
+pub fn orbit_scaled(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    raster: &GBufferRenderer,
+    mesh: &GpuMesh,
+    cam: &Camera,
+    base: AoOptions,
+    params: &AoParams,
+    (degrees, budget_ms): (f32, f64),
+    dir: &Path,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    let options = AoOptions {
+        resolution: Resolution::Scaled,
+        upsample: Upsampler::Bilateral,
+        denoise: match base.denoise {
+            Denoise::None => Denoise::None,
+            _ => Denoise::Spatial,
+        },
+        ..base
+    };
+    let mut ao = Ao::new(&ctx.device, options)?;
+    // Compiled and its textures (those of scale 1 serve every scale) created before the
+    // first timed frame: nothing is created during the orbit.
+    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
+    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
+    let mut control = ScaleController::new(budget_ms, START_SCALE)
+        .with_context(|| format!("no controller for a {budget_ms} ms budget"))?;
+    eprintln!(
+        "budget: {budget_ms} ms per frame; continuous scale from {START_SCALE}, {} {}×{}, \
+         denoise {}",
+        options.estimator.name(),
+        options.directions,
+        options.steps,
+        options.denoise.name()
+    );
+    let timing = Timing::best_for(ctx);
+    let n = a.frames;
+    let mut frames: Vec<(f32, f64)> = Vec::with_capacity(n as usize);
+    let mut previous: Option<Camera> = None;
+    for k in 0..n {
+        let c = cam.orbit(orbit_turn(degrees, k, n));
+        let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
+        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
+        let scale = control.scale();
+        // The history is at full resolution: it carries over a change of scale.
+        let motion = previous.map_or(CameraMotion::Cut, |p| c.motion_since(&p));
+        let p = AoParams {
+            motion,
+            scale,
+            ..*params
+        };
+        let ms = frame_ms(ctx, &mut ao, &input, &p, timing)?;
+        control.update(ms);
+        frames.push((scale, ms));
+        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
+        let path = dir.join(format!("frame_{k:04}.png"));
+        save_ao(&path, &values, a.width, a.height, a.bits)?;
+        eprintln!(
+            "frame {k:4}: scale {scale:.3} {:>6} ms ({:+.0}% of the budget)",
+            fmt_ms(ms),
+            (ms / budget_ms - 1.0) * 100.0
+        );
+        previous = Some(c);
+    }
+    let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
+    eprintln!("budget: {}", summary(&times, budget_ms));
+    let mut csv = String::from("frame,scale,ms\n");
+    for (k, (scale, ms)) in frames.iter().enumerate() {
+        let _ = writeln!(csv, "{k},{scale:.4},{ms:.4}");
+    }
+    // The right axis: scale 0.25 at the bottom, 1 at the top.
+    let axis = |s: f64| (s - f64::from(obscura::MIN_SCALE)) / (1.0 - f64::from(obscura::MIN_SCALE));
+    let knob: Vec<f64> = frames.iter().map(|f| axis(f64::from(f.0))).collect();
+    let labels: Vec<(f64, String)> = [0.25, 0.5, 0.75, 1.0]
+        .iter()
+        .map(|&s| (axis(s), format!("scale {s}")))
+        .collect();
+    write_outputs(dir, &csv, &plot(&times, &knob, &labels, "scale", budget_ms))
+}
+
+/// Time per frame (line, left axis, with the budget and its ±15% band) and the knob per
+/// frame (steps, right axis; `knob` as fractions of the axis height, `labels` placed the same
+/// way).
+fn plot(
+    times: &[f64],
+    knob: &[f64],
+    labels: &[(f64, String)],
+    knob_name: &str,
+    budget_ms: f64,
+) -> String {
     let (w, h, left, top) = (640.0, 300.0, 60.0, 20.0);
-    let n = frames.len().max(2) as f64;
-    let tmax = frames.iter().map(|f| f.1).fold(budget_ms * 1.3, f64::max) * 1.05;
-    let levels = LADDER.len() as f64;
+    let n = times.len().max(2) as f64;
+    let tmax = times.iter().copied().fold(budget_ms * 1.3, f64::max) * 1.05;
     let x = |k: f64| left + k / (n - 1.0) * w;
     let yt = |t: f64| top + h - t / tmax * h;
-    let yl = |l: f64| top + h - (l + 0.5) / levels * h;
+    let yl = |f: f64| top + h - f * h;
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
         w + left + 170.0,
@@ -238,27 +357,26 @@ fn plot(frames: &[Frame], budget_ms: f64, name: &dyn Fn(usize) -> String) -> Str
             fmt_ms(t)
         );
     }
-    for l in 0..LADDER.len() {
+    for (f, label) in labels {
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{:.1}\" fill=\"#1f77b4\">{l} {}</text>",
+            "<text x=\"{}\" y=\"{:.1}\" fill=\"#1f77b4\">{label}</text>",
             left + w + 6.0,
-            yl(l as f64) + 4.0,
-            name(l)
+            yl(*f) + 4.0,
         );
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">frame ({} in all)</text>\n<text x=\"14\" y=\"{2}\" transform=\"rotate(-90 14 {2})\" text-anchor=\"middle\">ms per frame (black); level (blue)</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">frame ({} in all)</text>\n<text x=\"14\" y=\"{2}\" transform=\"rotate(-90 14 {2})\" text-anchor=\"middle\">ms per frame (black); {knob_name} (blue)</text>",
         left + w / 2.0,
         top + h + 32.0,
-        frames.len()
+        times.len()
     );
-    let steps: Vec<String> = frames
+    let steps: Vec<String> = knob
         .iter()
         .enumerate()
         .flat_map(|(k, f)| {
-            let y = yl(f.0 as f64);
+            let y = yl(*f);
             [
                 format!("{:.1},{y:.1}", x(k as f64 - 0.5).max(left)),
                 format!("{:.1},{y:.1}", x(k as f64 + 0.5).min(left + w)),
@@ -270,10 +388,10 @@ fn plot(frames: &[Frame], budget_ms: f64, name: &dyn Fn(usize) -> String) -> Str
         "<polyline points=\"{}\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\" opacity=\"0.7\"/>",
         steps.join(" ")
     );
-    let line: Vec<String> = frames
+    let line: Vec<String> = times
         .iter()
         .enumerate()
-        .map(|(k, f)| format!("{:.1},{:.1}", x(k as f64), yt(f.1)))
+        .map(|(k, t)| format!("{:.1},{:.1}", x(k as f64), yt(*t)))
         .collect();
     let _ = writeln!(
         s,

@@ -102,6 +102,12 @@ pub struct EvalArgs {
     /// denoise choice listed runs.
     #[arg(long, value_parser = parse_resolution, value_delimiter = ',', default_value = "full")]
     pub resolutions: Vec<Resolution>,
+    /// Working scales of the continuous resolution (`Resolution::Scaled`, comma-separated,
+    /// each in [0.25, 1]): each runs as a variant "… scaled S" with the bilateral upsampler
+    /// and the --denoise choices it takes (none, spatial); estimators with depth mips (SAO,
+    /// VO's area integral) are left out.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub scales: Vec<f32>,
     /// Depth downsampling rules for the low resolutions (comma-separated).
     #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,
@@ -562,6 +568,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     if a.modes.is_empty() || a.estimators.is_empty() {
         bail!("--modes and --estimators need at least one value each");
     }
+    if let Some(s) = a
+        .scales
+        .iter()
+        .find(|s| !(obscura::MIN_SCALE..=1.0).contains(*s))
+    {
+        bail!("--scales must each be in [0.25, 1] (got {s})");
+    }
     let jobs = jobs(a)?;
     if a.ssdo {
         if a.frames > 1 || a.falloff != FalloffArg::None || a.truth != TruthArg::Centre {
@@ -588,6 +601,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
     let mut variants: Vec<(String, AoOptions)> = Vec::new();
+    // Each variant's `AoParams::scale` (1 but for the scaled ones).
+    let mut scales: Vec<f32> = Vec::new();
     // The sample choices crossed with everything else: explicit splits, presets, or the
     // one choice of --preset / --directions / --steps (no label suffix).
     let choices: Vec<SampleChoice> = if !a.splits.is_empty() {
@@ -632,6 +647,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                         };
                         let o = AoOptions { denoise, ..base };
                         variants.push((label, o));
+                        scales.push(1.0);
                         continue;
                     }
                     for &downsample in &a.downsamples {
@@ -653,8 +669,31 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                                 label = format!("{label} {}", denoise.name());
                             }
                             variants.push((label, o));
+                            scales.push(1.0);
                         }
                     }
+                }
+            }
+            for &scale in &a.scales {
+                if estimator.uses_pyramid() || estimator.uses_moments() {
+                    break;
+                }
+                for &denoise in &a.denoise {
+                    if !matches!(denoise, Denoise::None | Denoise::Spatial) {
+                        continue;
+                    }
+                    let o = AoOptions {
+                        resolution: Resolution::Scaled,
+                        upsample: Upsampler::Bilateral,
+                        denoise,
+                        ..base
+                    };
+                    let mut label = format!("{name} scaled {scale}");
+                    if denoise != Denoise::None {
+                        label = format!("{label} {}", denoise.name());
+                    }
+                    variants.push((label, o));
+                    scales.push(scale);
                 }
             }
         }
@@ -811,7 +850,11 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let timing = Timing::best_for(&ctx);
         for round in 0..=a.runs {
             for (i, ao) in aos.iter_mut().enumerate() {
-                let ms = frame_ms(&ctx, ao, &input, &params, timing)?;
+                let p = AoParams {
+                    scale: scales[i],
+                    ..params
+                };
+                let ms = frame_ms(&ctx, ao, &input, &p, timing)?;
                 if round > 0 {
                     times[i].push(ms);
                 }
@@ -839,11 +882,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         if a.frames > 1 {
             for (i, ao) in aos.iter_mut().enumerate() {
                 ao.reset_history();
+                let p = AoParams {
+                    scale: scales[i],
+                    ..params
+                };
                 for _ in 0..a.frames {
-                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 }
                 let still = ctx.read_f32(ao.output().context("AO output missing")?)?;
-                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 let next = ctx.read_f32(ao.output().context("AO output missing")?)?;
                 let flicker = metrics::mean_abs_diff(&still, &next, &mask);
                 temporal[i] = Some(TemporalFigures {
@@ -862,20 +909,31 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     motion: previous.map_or(obscura::CameraMotion::Cut, |p| c.motion_since(&p)),
                     ..params
                 };
-                for ao in aos.iter_mut() {
-                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &pk))?;
+                for (ao, &scale) in aos.iter_mut().zip(&scales) {
+                    let p = AoParams { scale, ..pk };
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
                 }
                 previous = Some(c);
             }
             for (i, ao) in aos.iter().enumerate() {
                 let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
-                // The history's frame counts at full resolution (nearest texel below it).
+                // The history's frame counts at full resolution (the working texel whose
+                // footprint holds the pixel). A scaled history is on the working grid of
+                // a texture created at full size.
                 let hist = ctx.read_f32(ao.history().context("history missing")?)?;
+                let scaled = ao.options().resolution == Resolution::Scaled;
                 let f = ao.options().resolution.factor();
                 let hw = w.div_ceil(f);
+                let texel = |c: u32| {
+                    if scaled {
+                        ((c as f32 + 0.5) * scales[i]) as u32
+                    } else {
+                        c / f
+                    }
+                };
                 let frames: Vec<f32> = (0..(w * h))
                     .map(|p| {
-                        let (x, y) = (p % w / f, p / w / f);
+                        let (x, y) = (texel(p % w), texel(p / w));
                         hist[((y * hw + x) * 4 + 1) as usize]
                     })
                     .collect();
@@ -963,6 +1021,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             a.bent_normals
                 && o.estimator.has_bent_normals()
                 && (o.resolution == obscura::Resolution::Full || !o.denoise.downsamples())
+                && o.resolution != obscura::Resolution::Scaled
                 && o.history == 0
         }) {
             let mut b = Ao::new(
@@ -1109,7 +1168,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             .iter()
             .any(|(_, o)| o.resolution != Resolution::Full)
         {
-            &format!("# Mixed resolution against ray-traced ground truth\n\nAO computed at half or quarter resolution (depth downsampled 2×2 → 1 by a rule, picks recentred on their tangent plane), upsampled to full resolution, compared with ray-traced AO and with the same estimator at full resolution. The evaluation size is {w}×{h} (half resolution is a {}×{} AO){}; speed-ups at 1920×1080 and 3840×2160, and what the numbers mean, are in BENCHMARKS.md (`obscura bench --compare resolutions`). *Speed-up* here is the mean over the views of full-resolution time / variant time at {w}×{h}, where the full-resolution prepare and upsample passes weigh most.", w.div_ceil(2), h.div_ceil(2), if w * h <= 640 * 400 { ", small: the harshest case for low resolutions" } else { "" })
+            &format!("# Mixed resolution against ray-traced ground truth\n\nAO computed at half or quarter resolution (depth downsampled 2×2 → 1 by a rule, picks recentred on their tangent plane) or at a continuous scale *s* (`scaled s`: each working texel the full-resolution pixel nearest its footprint's centre, recentred; temporal accumulation, when on, on the working grid), upsampled to full resolution, compared with ray-traced AO and with the same estimator at full resolution. The evaluation size is {w}×{h} (half resolution is a {}×{} AO){}; speed-ups at 1920×1080 and 3840×2160, and what the numbers mean, are in BENCHMARKS.md (`obscura bench --compare resolutions`). *Speed-up* here is the mean over the views of full-resolution time / variant time at {w}×{h}, where the full-resolution prepare and upsample passes weigh most.", w.div_ceil(2), h.div_ceil(2), if w * h <= 640 * 400 { ", small: the harshest case for low resolutions" } else { "" })
         } else {
             "# Quality against ray-traced ground truth"
         };

@@ -135,6 +135,16 @@ use obscura::settings::by_name as named;
 pub fn parse_resolution(s: &str) -> Result<Resolution, String> {
     named(&Resolution::ALL, Resolution::name, s)
 }
+/// A resolution, the continuous `scaled` included.
+pub fn parse_resolution_or_scaled(s: &str) -> Result<Resolution, String> {
+    let all = [
+        Resolution::Full,
+        Resolution::Half,
+        Resolution::Quarter,
+        Resolution::Scaled,
+    ];
+    named(&all, Resolution::name, s)
+}
 pub fn parse_downsample(s: &str) -> Result<DepthDownsample, String> {
     named(&DepthDownsample::ALL, DepthDownsample::name, s)
 }
@@ -148,9 +158,13 @@ pub fn parse_denoise(s: &str) -> Result<Denoise, String> {
 /// Mixed resolution (seeds 002, 004), shared by `render` and `bench`.
 #[derive(Debug, Args)]
 pub struct ResolutionArgs {
-    /// AO resolution: full, half or quarter.
-    #[arg(long, value_parser = parse_resolution, default_value = "full")]
+    /// AO resolution: full, half, quarter, or scaled (any --scale in [0.25, 1]; bilateral
+    /// upsampling, denoise none or spatial).
+    #[arg(long, value_parser = parse_resolution_or_scaled, default_value = "full")]
     pub resolution: Resolution,
+    /// Working pixels per full-resolution pixel with --resolution scaled, in [0.25, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f32,
     /// Depth downsampling rule below full resolution: max, min, checkerboard, representative.
     #[arg(long, value_parser = parse_downsample, default_value = "checkerboard")]
     pub downsample: DepthDownsample,
@@ -364,13 +378,17 @@ pub struct RenderArgs {
     /// Folder for the --orbit frames (frame_0000.png, ...); created if missing.
     #[arg(long, value_name = "DIR", requires = "orbit")]
     pub out_dir: Option<PathBuf>,
-    /// Hold this many milliseconds per AO frame over the --orbit: each frame runs at the
-    /// level (working resolution and preset, quarter low .. full ultra) that
-    /// `obscura::budget::BudgetController` chooses from the measured times; overrides
-    /// --resolution and the preset. Prints each frame's time and level and writes
-    /// budget.csv and budget.svg to --out-dir.
+    /// Hold this many milliseconds per AO frame over the --orbit, by the --budget-control
+    /// knob; overrides --resolution (and, with the ladder, the preset). Prints each frame's
+    /// time and scale or level and writes budget.csv and budget.svg to --out-dir.
     #[arg(long, value_name = "MS", requires = "orbit")]
     pub budget_ms: Option<f64>,
+    /// What --budget-ms turns: `scale`, the continuous working scale in [0.25, 1]
+    /// (`obscura::budget::ScaleController`, the preset as given), or `ladder`, eleven
+    /// levels of resolution × preset, quarter low .. full ultra
+    /// (`obscura::budget::BudgetController`).
+    #[arg(long, value_enum, default_value_t = BudgetControl::Scale, requires = "budget_ms")]
+    pub budget_control: BudgetControl,
     /// Also write screen-space directional occlusion with one diffuse bounce (obscura's
     /// `Ssdo`): the scene's albedo (glTF base colour factors, OBJ `Kd`) lit by --env
     /// through the AO's bent normals (GTAO, HBAO; the normal otherwise), plus the light
@@ -382,6 +400,13 @@ pub struct RenderArgs {
     /// the zenith, +y; the left edge facing +x, columns turning toward +z).
     #[arg(long, default_value = "sky", requires = "ssdo")]
     pub env: String,
+}
+
+/// The knob of `render --budget-ms`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BudgetControl {
+    Scale,
+    Ladder,
 }
 
 fn parse_bits(s: &str) -> Result<u8, String> {
@@ -465,6 +490,12 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
     }
     options(a).validate()?;
     params(a, 1.0).validate()?;
+    if a.resolution.scale != 1.0 && a.resolution.resolution != Resolution::Scaled {
+        bail!(
+            "--scale {} needs --resolution scaled (the other resolutions have fixed scales)",
+            a.resolution.scale
+        );
+    }
     if let Some(r) = a.radius {
         if !(r.is_finite() && r > 0.0) {
             bail!("--radius must be a finite number > 0 (got {r})");
@@ -494,6 +525,7 @@ pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {
         bias_angle_deg: a.bias,
         strength: a.strength,
         max_radius_px: a.max_radius_px,
+        scale: a.resolution.scale,
         ..Default::default()
     }
 }
@@ -697,7 +729,11 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         );
     }
     if let (Some(degrees), Some(dir), Some(budget)) = (a.orbit, &a.out_dir, a.budget_ms) {
-        return crate::budget::orbit(
+        let run = match a.budget_control {
+            BudgetControl::Scale => crate::budget::orbit_scaled,
+            BudgetControl::Ladder => crate::budget::orbit,
+        };
+        return run(
             a,
             &ctx,
             &raster,

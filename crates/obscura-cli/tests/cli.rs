@@ -159,6 +159,8 @@ fn render_orbit_holds_a_budget_by_level() {
             s(&d.join("ao.png")),
             "--budget-ms",
             budget,
+            "--budget-control",
+            "ladder",
         ]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{err}");
@@ -222,6 +224,79 @@ fn render_orbit_holds_a_budget_by_level() {
         "--orbit",
     );
     std::fs::remove_dir_all(d).unwrap();
+}
+
+/// `render --orbit --budget-ms` with the continuous scale (the default knob): from half
+/// resolution's scale, a budget every scale meets takes it to 1 after one frame, one no
+/// scale can meet to the smallest, 0.25. `--resolution scaled --scale S` renders one frame
+/// at scale S; `--scale` with another resolution, or out of range, is refused.
+#[test]
+fn render_orbit_holds_a_budget_by_scale() {
+    let scales = |budget: &str| -> Vec<f32> {
+        let d = scratch(&format!("budget-scale-{budget}"));
+        let out = obscura(&[
+            "render",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--orbit",
+            "20",
+            "--frames",
+            "4",
+            "--out-dir",
+            s(&d),
+            "--out",
+            s(&d.join("ao.png")),
+            "--budget-ms",
+            budget,
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains("frame    3: scale"), "per-frame lines: {err}");
+        assert!(d.join("frame_0003.png").exists() && d.join("budget.svg").exists());
+        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
+        let rows = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+            .collect();
+        std::fs::remove_dir_all(d).unwrap();
+        rows
+    };
+    assert_eq!(scales("1000000"), [0.5, 1.0, 1.0, 1.0]);
+    assert_eq!(scales("0.001"), [0.5, 0.25, 0.25, 0.25]);
+    let d = scratch("scaled-one");
+    let out = obscura(&[
+        "render",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--resolution",
+        "scaled",
+        "--scale",
+        "0.6",
+        "--out",
+        s(&d.join("ao.png")),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(d.join("ao.png").exists());
+    std::fs::remove_dir_all(d).unwrap();
+    assert_fails(
+        "scale-without-scaled",
+        &["render", "--scale", "0.5"],
+        "--scale 0.5 needs --resolution scaled",
+    );
+    assert_fails(
+        "scale-out-of-range",
+        &["render", "--resolution", "scaled", "--scale", "0.1"],
+        "scale",
+    );
 }
 
 fn assert_fails(name: &str, args: &[&str], message: &str) {

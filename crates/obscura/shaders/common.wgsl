@@ -32,17 +32,44 @@ fn linearize_depth(z: f32) -> f32 {
 // View-space position of pixel-space point `p` (viewport-local; pixel centres at +0.5)
 // at linear depth `d`. View space: x right, y up, camera looking down -z.
 fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
-    return view_position_scaled(p, d, frame.ndc_to_view);
+    return view_position_scaled(p, d, frame.ndc_to_view, frame.inv_size);
 }
 
-// `view_position` with another projection's `ndc_to_view` (the previous frame's).
-fn view_position_scaled(p: vec2<f32>, d: f32, ndc_to_view: vec2<f32>) -> vec3<f32> {
-    let ndc = vec2<f32>(p.x * frame.inv_size.x * 2.0 - 1.0, 1.0 - p.y * frame.inv_size.y * 2.0);
+// `view_position` with another projection's `ndc_to_view` on another grid's `inv_size` (the
+// previous frame's).
+fn view_position_scaled(p: vec2<f32>, d: f32, ndc_to_view: vec2<f32>, inv_size: vec2<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(p.x * inv_size.x * 2.0 - 1.0, 1.0 - p.y * inv_size.y * 2.0);
     var xy = ndc * ndc_to_view;
     if frame.perspective != 0u {
         xy = xy * d;
     }
     return vec3<f32>(xy, -d);
+}
+
+// Prepared value `v` = vec4(linear depth, normal), seen at pixel-space point `seen_at`, moved
+// along its own tangent plane to the ray through pixel-space point `centre` (the depth
+// rules' and the rescale pass's recentring: positions are rebuilt at texel centres
+// downstream). Kept as is on grazing surfaces (|n . ray| < 0.2) and where the move would
+// exceed 10% of the depth. Mirror: src/reference.rs, `recentred_to`.
+fn recentred_to(seen_at: vec2<f32>, centre: vec2<f32>, v: vec4<f32>) -> vec4<f32> {
+    let p = view_position(seen_at, v.x);
+    let n = v.yzw;
+    var d = v.x;
+    if frame.perspective != 0u {
+        // The ray through the centre at depth 1 is r; the plane n.(X - p) = 0 meets it at d r.
+        let r = view_position(centre, 1.0);
+        let nr = dot(n, r);
+        if abs(nr) >= 0.2 * length(r) {
+            d = dot(n, p) / nr;
+        }
+    } else if abs(n.z) >= 0.2 {
+        let q = view_position(centre, v.x);
+        d = v.x + dot(n.xy, q.xy - p.xy) / n.z;
+    }
+    if !(d > 0.0) || abs(d - v.x) > 0.1 * v.x {
+        return v;
+    }
+    return vec4<f32>(d, n);
 }
 
 // Depth noise σ at linear depth `d` (AoParams::depth_noise; 0 for rendered depth).

@@ -70,8 +70,8 @@ fn pick_child(t: vec2<i32>, depth: array<f32, 4>, alive_in: array<bool, 4>, coun
 }
 
 // RECENTRE: the pick's depth moved along its own tangent plane to the ray through the
-// centre of texel t (positions are rebuilt at texel centres downstream). Kept as picked on
-// grazing surfaces (|n . ray| < 0.2) and where the move would exceed 10% of the depth.
+// centre of texel t (positions are rebuilt at texel centres downstream); common.wgsl,
+// `recentred_to`.
 fn recentred(t: vec2<i32>, pick: u32, v: vec4<f32>) -> vec4<f32> {
     if !RECENTRE {
         return v;
@@ -79,23 +79,5 @@ fn recentred(t: vec2<i32>, pick: u32, v: vec4<f32>) -> vec4<f32> {
     // Full-resolution pixels per source texel (2^(LEVEL-1)) and per destination texel.
     let s = f32(1u << (LEVEL - 1u));
     let child = vec2<f32>(2 * t + child_offset(pick));
-    let p = view_position((child + 0.5) * s, v.x);
-    let centre = (vec2<f32>(t) + 0.5) * 2.0 * s;
-    let n = v.yzw;
-    var d = v.x;
-    if frame.perspective != 0u {
-        // The ray through the centre at depth 1 is r; the plane n.(X - p) = 0 meets it at d r.
-        let r = view_position(centre, 1.0);
-        let nr = dot(n, r);
-        if abs(nr) >= 0.2 * length(r) {
-            d = dot(n, p) / nr;
-        }
-    } else if abs(n.z) >= 0.2 {
-        let q = view_position(centre, v.x);
-        d = v.x + dot(n.xy, q.xy - p.xy) / n.z;
-    }
-    if !(d > 0.0) || abs(d - v.x) > 0.1 * v.x {
-        return v;
-    }
-    return vec4<f32>(d, n);
+    return recentred_to((child + 0.5) * s, (vec2<f32>(t) + 0.5) * 2.0 * s, v);
 }

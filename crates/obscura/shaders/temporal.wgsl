@@ -59,11 +59,13 @@ fn reprojected(pos: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
     if frame.perspective != 0u {
         ndc = ndc / depth;
     }
-    let px = vec2<f32>(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / frame.inv_size;
+    // Pixel coordinates on the previous frame's grid (another size when the working scale
+    // of Resolution::Scaled changed).
+    let px = vec2<f32>(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / frame.prev_inv_size;
     let base = floor(px - 0.5);
     let f = px - 0.5 - base;
     let tol = plane_tolerance(depth);
-    let size = vec2<i32>(frame.size);
+    let size = vec2<i32>(frame.prev_size);
     var sum = vec2<f32>(0.0);
     var total = 0.0;
     for (var i = 0; i < 4; i++) {
@@ -76,7 +78,7 @@ fn reprojected(pos: vec3<f32>, n: vec3<f32>) -> vec2<f32> {
         if h.z <= 0.0 {
             continue;
         }
-        let q = view_position_scaled(vec2<f32>(t) + 0.5, h.z, frame.prev_ndc_to_view);
+        let q = view_position_scaled(vec2<f32>(t) + 0.5, h.z, frame.prev_ndc_to_view, frame.prev_inv_size);
         if abs(dot(q - prev, prev_n)) >= tol || dot(unpack_normal(h.w), prev_n) < HISTORY_NORMAL_COS {
             continue;
         }

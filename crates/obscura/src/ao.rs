@@ -9,6 +9,8 @@
 //! half / quarter:       prepare_down (half-res vec4(d, n) + full-res linear depth)
 //!                       ─▶ [downsample to quarter] ─▶ AO at working resolution
 //!                       ─▶ [blur | box/tent] ─▶ upsample (full res)
+//! scaled (any scale):   prepare ─▶ rescale ─▶ AO on the frame's working grid ─▶ [temporal]
+//!                       ─▶ [denoise] ─▶ upsample_scaled (full res)
 //! ```
 //!
 //! Estimators that read the depth pyramid (SAO), and the classified upsampler, get its levels
@@ -26,7 +28,7 @@ use crate::shader::{
 use crate::uniforms::FrameUniforms;
 use crate::{
     AoOptions, AoParams, CameraMotion, Denoise, DepthConvention, Error, NormalEncoding, Projection,
-    Result, Upsampler, Viewport,
+    Resolution, Result, Upsampler, Viewport,
 };
 
 /// What the caller hands over each frame.
@@ -65,6 +67,9 @@ enum Res {
     PreparedLayers,
     /// `prepared` downsampled k ≥ 1 times by the depth rule: `ceil(full / 2^k)`.
     Level(u32),
+    /// `prepared` at the frame's scale ([`crate::Resolution::Scaled`]): created at full
+    /// size, the working grid `ceil(full × scale)` used.
+    Scaled,
     /// `pyramid`: `max(1, full >> 1)` with every mip, PYRAMID_FORMAT; all mips.
     Pyramid,
     /// One mip of the pyramid.
@@ -131,7 +136,9 @@ enum FrameAt {
 enum Grid {
     /// One invocation per pixel of a prepared level (0 = full resolution).
     Level(u32),
-    /// Work layer texels × N² layers.
+    /// One invocation per pixel of this frame's working grid ([`crate::Resolution::Scaled`]).
+    Work,
+    /// Work layer texels × N² layers (of this frame's working grid).
     Layers,
     /// One dispatch per pyramid (or moments) mip after the first, or per four of them (each
     /// reads the mip above).
@@ -149,6 +156,31 @@ struct Step {
     grid: Grid,
 }
 
+/// A pass's workgroup counts: fixed by the frame size, or taken from each frame's working
+/// grid (which [`crate::Resolution::Scaled`] changes every frame).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Dispatch {
+    Fixed([u32; 3]),
+    Work,
+    WorkLayers,
+}
+
+impl Dispatch {
+    /// The workgroup counts for a working grid of `work` pixels and an `n` × `n` split.
+    fn at(self, work: [u32; 2], n: u32) -> [u32; 3] {
+        let (grid, z) = match self {
+            Dispatch::Fixed(d) => return d,
+            Dispatch::Work => (work, 1),
+            Dispatch::WorkLayers => {
+                let l = layer_size(work[0], work[1], n);
+                ([l.0, l.1], n * n)
+            }
+        };
+        let (x, y) = dispatch_size(grid);
+        [x, y, z]
+    }
+}
+
 /// What the prepare pass stores, and the textures it writes, by binding.
 fn prepare_targets(store: PrepareStore) -> Vec<(u32, Res)> {
     match store {
@@ -164,6 +196,9 @@ fn prepare_targets(store: PrepareStore) -> Vec<(u32, Res)> {
 /// How the prepare pass stores for `options`, and the passes after it, in order;
 /// `pyramid_levels`: levels per pass of the pyramid after its first (1 or 4).
 fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
+    if o.resolution == Resolution::Scaled {
+        return (PrepareStore::Full, plan_scaled_steps(o));
+    }
     let n = o.mode.split();
     let work_level = o.resolution.factor().ilog2();
     let up_level = o.upsample_factor().ilog2();
@@ -445,6 +480,107 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     (prepare_store, steps)
 }
 
+/// The passes after prepare for [`Resolution::Scaled`]: rescale → AO on the working grid
+/// (randomized, or deinterleaved by the unfused split) → [temporal accumulation on the
+/// working grid, reprojecting into last frame's grid, whatever its scale] → [spatial
+/// denoiser] → bilateral upsampling at the frame's scale. Temporal accumulation at full
+/// resolution after the upsampler (where engines put TAA) cost 13 ms of a 31 ms frame at
+/// scale 1/4 on lavapipe at 640×400 (BENCHMARKS.md), the floor no scale could go below.
+fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
+    let step = |pass, views: Vec<(u32, Res)>, frame, grid| Step {
+        pass,
+        views,
+        frame,
+        grid,
+    };
+    let estimator = o.estimator;
+    let mut steps = vec![step(
+        Pass::Rescale,
+        vec![(1, Res::Prepared), (2, Res::Scaled)],
+        FrameAt::Work,
+        Grid::Work,
+    )];
+    if o.mode.split() > 1 {
+        steps.push(step(
+            Pass::Deinterleave,
+            vec![(1, Res::Scaled), (3, Res::PreparedLayers)],
+            FrameAt::Work,
+            Grid::Layers,
+        ));
+        steps.push(step(
+            Pass::AoLayered {
+                merge: true,
+                estimator,
+                bent: false,
+            },
+            vec![(1, Res::PreparedLayers), (2, Res::AoWork)],
+            FrameAt::Work,
+            Grid::Layers,
+        ));
+    } else {
+        steps.push(step(
+            Pass::AoFull {
+                estimator,
+                bent: false,
+            },
+            vec![(1, Res::Scaled), (2, Res::AoWork)],
+            FrameAt::Work,
+            Grid::Work,
+        ));
+    }
+    // After the AO pass: [temporal] → [denoise], alternating the two working textures.
+    let mut current = Res::AoWork;
+    let other = |r: Res| {
+        if r == Res::AoWork {
+            Res::AoTmp
+        } else {
+            Res::AoWork
+        }
+    };
+    if o.history > 0 {
+        steps.push(step(
+            Pass::Temporal {
+                layers: false,
+                bent: false,
+            },
+            vec![
+                (1, Res::Scaled),
+                (2, current),
+                (3, Res::HistoryPrev),
+                (4, Res::HistoryNext),
+                (5, other(current)),
+            ],
+            FrameAt::Work,
+            Grid::Work,
+        ));
+        current = other(current);
+    }
+    if o.denoise == Denoise::Spatial {
+        steps.push(step(
+            Pass::Denoise {
+                layers: false,
+                bent: false,
+            },
+            vec![(1, Res::Scaled), (2, current), (3, other(current))],
+            FrameAt::Work,
+            Grid::Work,
+        ));
+        current = other(current);
+    }
+    steps.push(step(
+        Pass::UpsampleScaled,
+        vec![
+            (1, Res::Prepared),
+            (2, current),
+            (3, Res::Scaled),
+            (4, Res::Output),
+        ],
+        FrameAt::Full,
+        Grid::Level(0),
+    ));
+    steps
+}
+
 /// Whether the bent normals are upsampled to full resolution (below full resolution, unless
 /// the box or tent filter downsampled the AO further: they stay at the working resolution).
 fn bent_upsampled(o: &AoOptions) -> bool {
@@ -491,11 +627,11 @@ struct SizedResources {
     /// Every texture of the plan, by name.
     textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)>,
     /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
-    prepare_dispatch: [u32; 3],
+    prepare_dispatch: Dispatch,
     /// Bind groups of every pass after prepare, in order: (compiled index, bind group on
     /// even and odd frames (they differ only for passes that touch the history),
     /// workgroups). The pass that writes the output has none here (see `output_binding`).
-    later: Vec<(usize, Option<[wgpu::BindGroup; 2]>, [u32; 3])>,
+    later: Vec<(usize, Option<[wgpu::BindGroup; 2]>, Dispatch)>,
     /// The pass writing the output: (index in `later`, index in the plan's steps).
     output_step: (usize, usize),
     /// The prepare bind group of the last frame's input views.
@@ -589,6 +725,20 @@ struct TemporalState {
     parity: u32,
     /// The previous frame's projection scale and kind.
     previous: Option<([f32; 2], u32)>,
+    /// The previous frame's working grid (`size`, `inv_size`), which the history holds.
+    grid: Option<([u32; 2], [f32; 2])>,
+}
+
+impl TemporalState {
+    /// Points this frame's working uniforms at the grid the history holds (the last frame's,
+    /// which [`Resolution::Scaled`] may have run at another scale) and remembers this one.
+    fn set_grid(&mut self, work: &mut FrameUniforms) {
+        if let (Some((size, inv_size)), true) = (self.grid, work.history != 0) {
+            work.prev_size = size;
+            work.prev_inv_size = inv_size;
+        }
+        self.grid = Some((work.size, work.inv_size));
+    }
 }
 
 impl TemporalState {
@@ -744,9 +894,15 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
         Pass::PyramidLevels => std::iter::once(texture_entry(1, UNFILTERED, D2))
             .chain((2..2 + PYRAMID_LEVELS_PER_PASS).map(|b| storage_entry(b, PYRAMID_FORMAT, D2)))
             .collect(),
-        Pass::Downsample { .. } => vec![
+        Pass::Downsample { .. } | Pass::Rescale => vec![
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, PREPARED_FORMAT, D2),
+        ],
+        Pass::UpsampleScaled => vec![
+            texture_entry(1, UNFILTERED, D2),
+            texture_entry(2, UNFILTERED, D2),
+            texture_entry(3, UNFILTERED, D2),
+            storage_entry(4, AO_FORMAT, D2),
         ],
         Pass::Upsample {
             upsampler, bent, ..
@@ -1313,6 +1469,7 @@ impl Ao {
                         ("obscura prepared layers", lsize, n * n, PREPARED_FORMAT)
                     }
                     Res::Level(k) => ("obscura prepared level", at(1 << k), 1, PREPARED_FORMAT),
+                    Res::Scaled => ("obscura prepared at scale", at(1), 1, PREPARED_FORMAT),
                     Res::Pyramid | Res::PyramidMip(_) => (
                         "obscura depth pyramid",
                         (1.max(size[0] >> 1), 1.max(size[1] >> 1)),
@@ -1387,10 +1544,13 @@ impl Ao {
         let grid = |g: Grid| match g {
             Grid::Level(k) => {
                 let d = at(1 << k);
-                workgroups(d.0, d.1, 1)
+                Dispatch::Fixed(workgroups(d.0, d.1, 1))
             }
-            Grid::Layers => workgroups(lsize.0, lsize.1, n * n),
-            Grid::PyramidBase | Grid::PyramidMips => workgroups(pyramid_base.0, pyramid_base.1, 1),
+            Grid::Work => Dispatch::Work,
+            Grid::Layers => Dispatch::WorkLayers,
+            Grid::PyramidBase | Grid::PyramidMips => {
+                Dispatch::Fixed(workgroups(pyramid_base.0, pyramid_base.1, 1))
+            }
         };
         let mut later = Vec::new();
         let mut output_step = (0, 0);
@@ -1446,7 +1606,11 @@ impl Ao {
                     let bg = bind_group(device, c, buffer, &views);
                     bind_groups += 1;
                     let d = (1.max(pyramid_base.0 >> m0), 1.max(pyramid_base.1 >> m0));
-                    later.push((i, Some([bg.clone(), bg]), workgroups(d.0, d.1, 1)));
+                    later.push((
+                        i,
+                        Some([bg.clone(), bg]),
+                        Dispatch::Fixed(workgroups(d.0, d.1, 1)),
+                    ));
                 }
                 continue;
             }
@@ -1488,7 +1652,7 @@ impl Ao {
         }
         let prepare_dispatch = match self.prepare_store {
             PrepareStore::Full => grid(Grid::Level(0)),
-            PrepareStore::Layers => grid(Grid::Layers),
+            PrepareStore::Layers => Dispatch::Fixed(workgroups(lsize.0, lsize.1, n * n)),
             PrepareStore::Down { .. } => grid(Grid::Level(1)),
         };
         self.created.textures += textures.len() as u32 + placeholders.get();
@@ -1546,7 +1710,12 @@ impl Ao {
             .temporal
             .apply(&self.options, params.motion, &mut frame);
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
-        let work = frame.at_factor(self.options.resolution.factor());
+        let mut work = if self.options.resolution == Resolution::Scaled {
+            frame.at_scale()
+        } else {
+            frame.at_factor(self.options.resolution.factor())
+        };
+        self.temporal.set_grid(&mut work);
         queue.write_buffer(&self.work_uniforms, 0, bytemuck::bytes_of(&work));
         let Some(sized) = self.sized.as_mut() else {
             return Err(Error::Gpu("size-dependent resources missing".into()));
@@ -1660,10 +1829,15 @@ impl Ao {
             let bg = bg.ok_or_else(|| Error::Gpu("resolve bind group missing".into()))?;
             passes.push((&r.compiled, bg, [x, y, 1]));
         }
-        passes.push((prepare, prepare_bind, sized.prepare_dispatch));
+        let n = self.options.mode.split();
+        passes.push((
+            prepare,
+            prepare_bind,
+            sized.prepare_dispatch.at(work.size, n),
+        ));
         for (i, bg, d) in &sized.later {
             let bg = bg.as_ref().unwrap_or(output_bind)[p].clone();
-            passes.push((&self.later[*i], bg, *d));
+            passes.push((&self.later[*i], bg, d.at(work.size, n)));
         }
         Ok(passes)
     }
@@ -1928,7 +2102,9 @@ impl Ao {
     /// them, when the plan keeps one.
     pub fn working_ao(&self) -> Option<&wgpu::Texture> {
         let upsampled = self.steps.iter().find_map(|st| match st.pass {
-            Pass::Upsample { .. } => st.views.iter().find(|v| v.0 == 2).map(|v| v.1),
+            Pass::Upsample { .. } | Pass::UpsampleScaled => {
+                st.views.iter().find(|v| v.0 == 2).map(|v| v.1)
+            }
             _ => None,
         });
         let r = match upsampled {
@@ -1936,6 +2112,20 @@ impl Ao {
             _ => Res::AoWork,
         };
         self.sized.as_ref().and_then(|s| s.texture(r))
+    }
+
+    /// The prepared buffer at the last frame's scale with [`Resolution::Scaled`]
+    /// (`Rgba32Float`, created at full size; the working grid is its top-left
+    /// `ceil(full × scale)` texels).
+    pub fn scaled_prepared(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::Scaled))
+    }
+
+    /// The AO pass's own output at working resolution when it does not write the output
+    /// directly (for tests against the CPU mirrors). With both the temporal pass and the
+    /// denoiser, the denoiser writes over it.
+    pub fn raw_ao(&self) -> Option<&wgpu::Texture> {
+        self.sized.as_ref().and_then(|s| s.texture(Res::AoWork))
     }
 
     /// The deinterleaved prepared layers (`Rgba32Float` array, N² layers) in deinterleaved modes.

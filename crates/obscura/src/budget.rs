@@ -28,6 +28,10 @@
 //!
 //! Between the two thresholds nothing changes, so a budget that falls between two levels'
 //! costs settles on the cheaper one instead of alternating.
+//!
+//! [`ScaleController`] holds a budget with one continuous knob instead, the working scale of
+//! [`crate::Resolution::Scaled`] (the design of issue 15, docs/budget.md): an integral
+//! controller on the log of the working area s², with a dead band for hysteresis.
 
 /// Smoothing of the scene complexity: weight of the newest frame.
 pub const SCENE_SMOOTHING: f64 = 0.3;
@@ -165,9 +169,85 @@ impl BudgetController {
     }
 }
 
+/// The scale controller's gain: each frame moves ln s² by this fraction of ln(budget /
+/// time). Below 1, so a cost affine in s² with a non-negative floor never overshoots.
+pub const SCALE_GAIN: f64 = 0.5;
+/// Frames within this fraction of the budget (in ln time) leave the scale as it is.
+pub const SCALE_DEAD_BAND: f64 = 0.03;
+
+/// Chooses each frame's working scale of [`crate::Resolution::Scaled`] in
+/// [[`crate::MIN_SCALE`], 1] to hold a frame-time budget.
+///
+/// The AO's cost is close to affine in the working area x = s²: `time = floor + c × x`, the
+/// floor being the passes at full resolution (prepare, the upsampler, the temporal pass) and
+/// per-pass overheads. Each frame the controller sets
+/// `x ← x × (budget / time)^SCALE_GAIN` (an integral controller on ln x), unless the time
+/// is within [`SCALE_DEAD_BAND`] of the budget. The loop gain is `SCALE_GAIN × d ln time /
+/// d ln x`, and for an affine cost `d ln time / d ln x = c x / time` lies in [0, 1]: the
+/// scale approaches its target without overshoot, faster the smaller the floor, and a
+/// frame's timing noise moves the next scale by only half as much. No model is learned, so
+/// a change of view needs no special case.
+#[derive(Clone, Debug)]
+pub struct ScaleController {
+    budget_ms: f64,
+    /// The working area s², in [MIN_SCALE², 1].
+    area: f64,
+}
+
+impl ScaleController {
+    /// A controller for `budget_ms` per frame starting at scale `start` (clamped to
+    /// [MIN_SCALE, 1]). `None` if the budget is not a positive finite number or `start` is
+    /// not finite.
+    pub fn new(budget_ms: f64, start: f32) -> Option<Self> {
+        if !(budget_ms.is_finite() && budget_ms > 0.0 && start.is_finite()) {
+            return None;
+        }
+        let s = f64::from(start.clamp(crate::MIN_SCALE, 1.0));
+        Some(Self {
+            budget_ms,
+            area: s * s,
+        })
+    }
+
+    /// The scale to run this frame ([`crate::AoParams::scale`]).
+    pub fn scale(&self) -> f32 {
+        (self.area.sqrt() as f32).clamp(crate::MIN_SCALE, 1.0)
+    }
+
+    /// The budget in milliseconds per frame.
+    pub fn budget_ms(&self) -> f64 {
+        self.budget_ms
+    }
+
+    /// Reports the measured time of the frame just run at [`Self::scale`] and returns the
+    /// scale for the next frame. Times that are not finite and positive are ignored.
+    pub fn update(&mut self, measured_ms: f64) -> f32 {
+        if measured_ms.is_finite() && measured_ms > 0.0 {
+            let error = (self.budget_ms / measured_ms).ln();
+            if error.abs() > SCALE_DEAD_BAND {
+                let min = f64::from(crate::MIN_SCALE).powi(2);
+                self.area = (self.area * (SCALE_GAIN * error).exp()).clamp(min, 1.0);
+            }
+        }
+        self.scale()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Deterministic factors in [1 − `noise`, 1 + `noise`] (a linear congruential sequence).
+    fn jitter(noise: f64) -> impl FnMut() -> f64 {
+        let mut state = 12345u64;
+        move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            1.0 + noise * (2.0 * u - 1.0)
+        }
+    }
 
     /// A fake clock: level k costs `costs[k] × scene(frame)` ms, times a deterministic
     /// ±`noise` jitter (a linear congruential sequence). Returns each frame's (level, ms).
@@ -178,15 +258,11 @@ mod tests {
         scene: impl Fn(u32) -> f64,
         noise: f64,
     ) -> Vec<(usize, f64)> {
-        let mut state = 12345u64;
+        let mut jitter = jitter(noise);
         (0..frames)
             .map(|f| {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let u = (state >> 11) as f64 / (1u64 << 53) as f64;
                 let k = c.level();
-                let ms = costs[k] * scene(f) * (1.0 + noise * (2.0 * u - 1.0));
+                let ms = costs[k] * scene(f) * jitter();
                 c.update(ms);
                 (k, ms)
             })
@@ -288,5 +364,94 @@ mod tests {
         assert!(c.predicted_ms(99).is_none());
         let frames = run(&mut c, &TRUE, 30, |_| 1.0, 0.0);
         assert!(frames[10..].iter().all(|f| f.0 == 2), "{frames:?}");
+    }
+
+    /// A fake clock for the scale controller: `floor + full × s²` ms times the scene, times
+    /// a deterministic ±`noise` jitter. Returns each frame's (scale, ms).
+    fn run_scaled(
+        c: &mut ScaleController,
+        floor: f64,
+        full: f64,
+        frames: u32,
+        scene: impl Fn(u32) -> f64,
+        noise: f64,
+    ) -> Vec<(f32, f64)> {
+        let mut jitter = jitter(noise);
+        (0..frames)
+            .map(|f| {
+                let s = c.scale();
+                let x = f64::from(s).powi(2);
+                let ms = (floor + full * x) * scene(f) * jitter();
+                c.update(ms);
+                (s, ms)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn scale_converges_without_overshoot_and_holds_the_budget() {
+        // A floor of 15 ms and 50 ms more at scale 1 (lavapipe's 640×400 frame is about
+        // that): a 30 ms budget needs s² = 0.3. Without noise the scale falls monotonically
+        // from 1 to it (no overshoot, so no oscillation) and holds within the dead band.
+        let mut c = ScaleController::new(30.0, 1.0).unwrap();
+        let frames = run_scaled(&mut c, 15.0, 50.0, 60, |_| 1.0, 0.0);
+        assert!(
+            frames.windows(2).all(|w| w[1].0 <= w[0].0),
+            "not monotone: {frames:?}"
+        );
+        assert!(
+            frames[20..]
+                .iter()
+                .all(|f| (f.1 / 30.0 - 1.0).abs() <= 0.04),
+            "{frames:?}"
+        );
+        // From below, the same: monotone up.
+        let mut c = ScaleController::new(30.0, 0.25).unwrap();
+        let frames = run_scaled(&mut c, 15.0, 50.0, 60, |_| 1.0, 0.0);
+        assert!(frames.windows(2).all(|w| w[1].0 >= w[0].0), "{frames:?}");
+        assert!(frames[20..]
+            .iter()
+            .all(|f| (f.1 / 30.0 - 1.0).abs() <= 0.04));
+        // With ±10% noise per frame, every frame after the first 20 within 15%.
+        let mut c = ScaleController::new(30.0, 0.5).unwrap();
+        let frames = run_scaled(&mut c, 15.0, 50.0, 200, |_| 1.0, 0.10);
+        let off = frames[20..]
+            .iter()
+            .filter(|f| (f.1 / 30.0 - 1.0).abs() > 0.15)
+            .count();
+        assert_eq!(off, 0, "{:?}", &frames[20..]);
+    }
+
+    #[test]
+    fn scale_follows_the_scene_and_stops_at_its_limits() {
+        // The scene gets 1.8× dearer for frames 50..100, then cheap again: the time is back
+        // within 10% of the budget 15 frames after each change.
+        let mut c = ScaleController::new(40.0, 0.5).unwrap();
+        let scene = |f: u32| if (50..100).contains(&f) { 1.8 } else { 1.0 };
+        let frames = run_scaled(&mut c, 10.0, 60.0, 160, scene, 0.05);
+        for range in [65..100, 115..160] {
+            assert!(
+                frames[range.clone()]
+                    .iter()
+                    .all(|f| (f.1 / 40.0 - 1.0).abs() <= 0.1),
+                "{range:?}: {:?}",
+                &frames[range.clone()]
+            );
+        }
+        assert!(frames[99].0 < frames[49].0);
+        // A budget no scale can meet stays at the smallest scale; one every scale meets
+        // climbs to 1.
+        let mut c = ScaleController::new(5.0, 1.0).unwrap();
+        let frames = run_scaled(&mut c, 10.0, 60.0, 40, |_| 1.0, 0.0);
+        assert_eq!(frames[39].0, crate::MIN_SCALE);
+        let mut c = ScaleController::new(500.0, 0.25).unwrap();
+        let frames = run_scaled(&mut c, 10.0, 60.0, 40, |_| 1.0, 0.0);
+        assert_eq!(frames[39].0, 1.0);
+        // Bad inputs.
+        assert!(ScaleController::new(0.0, 1.0).is_none());
+        assert!(ScaleController::new(10.0, f32::NAN).is_none());
+        let mut c = ScaleController::new(10.0, 0.5).unwrap();
+        assert_eq!(c.update(f64::NAN), 0.5);
+        assert_eq!(c.update(0.0), 0.5);
     }
 }

@@ -58,6 +58,6 @@ pub use lights::{Lights, LightsOptions, PointLight, Prepared};
 pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
-    Preset, PyramidBuild, Resolution, Upsampler,
+    Preset, PyramidBuild, Resolution, Upsampler, MIN_SCALE,
 };
 pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};

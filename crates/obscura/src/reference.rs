@@ -992,15 +992,22 @@ pub fn downsample(
 }
 
 /// The pick moved along its tangent plane to the centre of texel `t`; mirrors `recentred`
-/// in shaders/downsample.wgsl.
+/// in shaders/downsample_rule.wgsl.
 fn recentred(f: &FrameUniforms, level: u32, t: [u32; 2], pick: u32, v: Vec4) -> Vec4 {
     let s = (1u32 << (level - 1)) as f32;
     let child = [
         (2 * t[0] + (pick & 1)) as f32,
         (2 * t[1] + (pick >> 1)) as f32,
     ];
-    let p = f.view_position([(child[0] + 0.5) * s, (child[1] + 0.5) * s], v.x);
+    let from = [(child[0] + 0.5) * s, (child[1] + 0.5) * s];
     let centre = [(t[0] as f32 + 0.5) * 2.0 * s, (t[1] as f32 + 0.5) * 2.0 * s];
+    recentred_to(f, from, centre, v)
+}
+
+/// Prepared value `v` seen at pixel-space point `from`, moved along its tangent plane to the
+/// ray through `centre`; mirrors `recentred_to` in shaders/common.wgsl.
+pub fn recentred_to(f: &FrameUniforms, from: [f32; 2], centre: [f32; 2], v: Vec4) -> Vec4 {
+    let p = f.view_position(from, v.x);
     let n = Vec3::new(v.y, v.z, v.w);
     let mut d = v.x;
     if f.perspective != 0 {
@@ -1017,6 +1024,35 @@ fn recentred(f: &FrameUniforms, level: u32, t: [u32; 2], pick: u32, v: Vec4) -> 
         return v;
     }
     Vec4::new(d, v.y, v.z, v.w)
+}
+
+/// The prepared buffer on the working grid of [`crate::Resolution::Scaled`] (`work`: the
+/// working frame, [`FrameUniforms::at_scale`]), from the full-resolution `prepared`: each
+/// texel the full-resolution pixel nearest its centre, recentred when `recentre`; mirrors
+/// shaders/rescale.wgsl. Returns `work.size` texels.
+pub fn rescale(work: &FrameUniforms, recentre: bool, prepared: &[Vec4]) -> Vec<Vec4> {
+    let full = work.full_size;
+    let mut out = Vec::with_capacity((work.size[0] * work.size[1]) as usize);
+    for y in 0..work.size[1] {
+        for x in 0..work.size[0] {
+            let q = [x as f32 + 0.5, y as f32 + 0.5];
+            let p = [
+                ((q[0] * work.inv_scale) as u32).min(full[0] - 1),
+                ((q[1] * work.inv_scale) as u32).min(full[1] - 1),
+            ];
+            let v = prepared[(p[1] * full[0] + p[0]) as usize];
+            out.push(if recentre && v.x > 0.0 {
+                let from = [
+                    (p[0] as f32 + 0.5) * work.scale,
+                    (p[1] as f32 + 0.5) * work.scale,
+                ];
+                recentred_to(work, from, q, v)
+            } else {
+                v
+            });
+        }
+    }
+    out
 }
 
 /// Seed 004's rule: drop the sample farthest from the centroid of those left until two
@@ -1055,8 +1091,16 @@ pub fn upsample(
     low_prepared: &[Vec4],
     pyramid: &[PyramidLevel],
 ) -> Vec<f32> {
-    upsample_weights(upsampler, f, prepared, low_size, low_prepared, pyramid)
-        .into_iter()
+    let fac = f.up_factor as f32;
+    let map = [1.0 / fac, fac];
+    let weights = upsample_weights(upsampler, f, map, prepared, low_size, low_prepared, pyramid);
+    weighted_ao(&weights, low_ao)
+}
+
+/// Each pixel's weighted sum of its footprint's AO, clamped to [0, 1]; 1 on sky.
+fn weighted_ao(weights: &[Option<([usize; 4], [f32; 4])>], low_ao: &[f32]) -> Vec<f32> {
+    weights
+        .iter()
         .map(|fw| {
             fw.map_or(1.0, |(t, w)| {
                 (0..4)
@@ -1087,7 +1131,9 @@ pub fn upsample_bent(
     full_normals: bool,
 ) -> Vec<Vec3> {
     let normal = |v: Vec4| Vec3::new(v.y, v.z, v.w);
-    upsample_weights(upsampler, f, prepared, low_size, low_prepared, pyramid)
+    let fac = f.up_factor as f32;
+    let map = [1.0 / fac, fac];
+    upsample_weights(upsampler, f, map, prepared, low_size, low_prepared, pyramid)
         .into_iter()
         .zip(prepared)
         .map(|(fw, c)| {
@@ -1112,11 +1158,39 @@ pub fn upsample_bent(
         .collect()
 }
 
+/// The AO of the working grid of [`crate::Resolution::Scaled`] (`f.work_size`, with its
+/// prepared buffer) upsampled to the full resolution of `f` by the joint bilateral weights
+/// at `f.scale`; mirrors shaders/upsample_scaled.wgsl.
+pub fn upsample_scaled(
+    f: &FrameUniforms,
+    prepared: &[Vec4],
+    low_ao: &[f32],
+    low_prepared: &[Vec4],
+) -> Vec<f32> {
+    let map = [f.scale, f.inv_scale];
+    let weights = upsample_weights(
+        crate::Upsampler::Bilateral,
+        f,
+        map,
+        prepared,
+        f.work_size,
+        low_prepared,
+        &[],
+    );
+    weighted_ao(&weights, low_ao)
+}
+
 /// The upsampler's weights of each full-resolution pixel: its four footprint texels (as
 /// indices into the low-resolution buffers) and their weights, summing to 1; `None` on sky.
+/// `map`: low-resolution texels per full-resolution pixel and its inverse.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the upsampler's inputs, spelled out"
+)]
 fn upsample_weights(
     upsampler: crate::Upsampler,
     f: &FrameUniforms,
+    map: [f32; 2],
     prepared: &[Vec4],
     low_size: [u32; 2],
     low_prepared: &[Vec4],
@@ -1124,7 +1198,7 @@ fn upsample_weights(
 ) -> Vec<Option<([usize; 4], [f32; 4])>> {
     use crate::shader::DEPTH_RANGE_TOLERANCE;
     use crate::Upsampler as U;
-    let fac = f.up_factor as f32;
+    let [scale, inv_scale] = map;
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..h {
@@ -1137,7 +1211,10 @@ fn upsample_weights(
             }
             let n = Vec3::new(c.y, c.z, c.w);
             let pos = f.view_position(centre([x, y]), d);
-            let u = [(x as f32 + 0.5) / fac - 0.5, (y as f32 + 0.5) / fac - 0.5];
+            let u = [
+                (x as f32 + 0.5) * scale - 0.5,
+                (y as f32 + 0.5) * scale - 0.5,
+            ];
             let base = [u[0].floor() as i32, u[1].floor() as i32];
             let t = [u[0] - u[0].floor(), u[1] - u[1].floor()];
             let wts = [
@@ -1157,7 +1234,10 @@ fn upsample_weights(
             let lpos: [Vec3; 4] = std::array::from_fn(|i| {
                 let q = texel[i];
                 f.view_position(
-                    [(q[0] as f32 + 0.5) * fac, (q[1] as f32 + 0.5) * fac],
+                    [
+                        (q[0] as f32 + 0.5) * inv_scale,
+                        (q[1] as f32 + 0.5) * inv_scale,
+                    ],
                     low[i].x,
                 )
             });
@@ -1664,7 +1744,8 @@ fn wgsl_sign_ge(x: f32) -> f32 {
 
 /// One frame of temporal accumulation at working resolution (`f` the working frame with
 /// its temporal fields, `prepared` per pixel, `ao` this frame's raw AO, `history` last
-/// frame's `vec4(AO, frames, depth, packed normal)`); returns this frame's history and AO.
+/// frame's `vec4(AO, frames, depth, packed normal)`, row-major on last frame's grid of
+/// `f.prev_size`); returns this frame's history and AO.
 /// Mirrors shaders/temporal.wgsl.
 pub fn temporal(
     f: &FrameUniforms,
@@ -1755,7 +1836,7 @@ fn reprojected(
     history: &[Vec4],
     p: [i32; 2],
 ) -> Option<(glam::Vec2, Vec<(usize, f32)>)> {
-    let (w, h) = (f.size[0] as i32, f.size[1] as i32);
+    let w = f.size[0] as i32;
     let at = |p: [i32; 2]| (p[1] * w + p[0]) as usize;
     let c = prepared[at(p)];
     if f.history == 0 || c.x <= 0.0 {
@@ -1772,21 +1853,23 @@ fn reprojected(
     if f.perspective != 0 {
         ndc /= depth;
     }
-    let px = glam::Vec2::new(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / glam::Vec2::from(f.inv_size);
+    let px = glam::Vec2::new(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 / glam::Vec2::from(f.prev_inv_size);
     let base = (px - 0.5).floor();
+    let (pw, ph) = (f.prev_size[0] as i32, f.prev_size[1] as i32);
     let fr = px - 0.5 - base;
     let (mut sum, mut total, mut taps) = (glam::Vec2::ZERO, 0.0, Vec::new());
     for i in 0..4 {
         let o = [i & 1, i >> 1];
         let t = [base.x as i32 + o[0], base.y as i32 + o[1]];
-        if t[0] < 0 || t[1] < 0 || t[0] >= w || t[1] >= h {
+        if t[0] < 0 || t[1] < 0 || t[0] >= pw || t[1] >= ph {
             continue;
         }
-        let hv = history[at(t)];
+        let hi = (t[1] * pw + t[0]) as usize;
+        let hv = history[hi];
         if hv.z <= 0.0 {
             continue;
         }
-        let q = f.view_position_scaled(centre(t), hv.z, f.prev_ndc_to_view);
+        let q = f.view_position_scaled(centre(t), hv.z, f.prev_ndc_to_view, f.prev_inv_size);
         if (q - prev).dot(prev_n).abs() >= f.plane_tolerance(depth)
             || unpack_normal(hv.w).dot(prev_n) < crate::shader::HISTORY_NORMAL_COS
         {
@@ -1796,7 +1879,7 @@ fn reprojected(
         let wy = if o[1] == 1 { fr.y } else { 1.0 - fr.y };
         sum += wx * wy * glam::Vec2::new(hv.x, hv.y);
         total += wx * wy;
-        taps.push((at(t), wx * wy));
+        taps.push((hi, wx * wy));
     }
     // The shader returns (0, 0) below a total weight of 1e-3, and uses the history only
     // where its frame count is positive.

@@ -167,16 +167,28 @@ pub enum Resolution {
     Full,
     Half,
     Quarter,
+    /// Any scale in [1/4, 1], chosen per frame ([`AoParams::scale`]; a frame-budget
+    /// controller sets it, [`crate::budget::ScaleController`]): the AO grid is
+    /// `ceil(full × scale)`. Textures are created once for scale 1. Each working texel takes
+    /// the prepared value of the full-resolution pixel nearest its footprint's centre,
+    /// recentred along its tangent plane (shaders/rescale.wgsl); the AO comes back through
+    /// the joint bilateral upsampler at that scale (shaders/upsample_scaled.wgsl), and the
+    /// temporal history (with [`AoOptions::history`]) runs after it at full resolution, as
+    /// engines place TAA after upscaling. At scale 1 it is the full-resolution pipeline.
+    /// Needs the bilateral upsampler, the spatial or no denoiser, an estimator without
+    /// depth mips (not SAO or VO's area integral) and no bent normals.
+    Scaled,
 }
 
 impl Resolution {
-    /// Every resolution.
+    /// The fixed resolutions ([`Resolution::Scaled`] takes its scale per frame).
     pub const ALL: [Resolution; 3] = [Resolution::Full, Resolution::Half, Resolution::Quarter];
 
-    /// Full-resolution pixels per AO pixel along each axis: 1, 2 or 4.
+    /// Full-resolution pixels per AO pixel along each axis: 1, 2 or 4 (1 for `Scaled`,
+    /// whose textures are sized for scale 1).
     pub fn factor(self) -> u32 {
         match self {
-            Resolution::Full => 1,
+            Resolution::Full | Resolution::Scaled => 1,
             Resolution::Half => 2,
             Resolution::Quarter => 4,
         }
@@ -188,6 +200,7 @@ impl Resolution {
             Resolution::Full => "full",
             Resolution::Half => "half",
             Resolution::Quarter => "quarter",
+            Resolution::Scaled => "scaled",
         }
     }
 }
@@ -531,6 +544,9 @@ pub struct AoParams {
     pub motion: CameraMotion,
     /// The depth input's noise σ(d) (see [`DepthNoise`]). Default none (rendered depth).
     pub depth_noise: DepthNoise,
+    /// Working pixels per full-resolution pixel along each axis with
+    /// [`Resolution::Scaled`]; must be 1 otherwise. Range [0.25, 1]. Default 1.
+    pub scale: f32,
 }
 
 /// The camera's motion since the previous recorded frame, for temporal accumulation.
@@ -560,9 +576,13 @@ impl Default for AoParams {
             max_radius_px: 256.0,
             motion: CameraMotion::Still,
             depth_noise: DepthNoise::NONE,
+            scale: 1.0,
         }
     }
 }
+
+/// The smallest [`AoParams::scale`].
+pub const MIN_SCALE: f32 = 0.25;
 
 fn check<T: std::fmt::Display>(
     ok: bool,
@@ -627,7 +647,35 @@ impl AoOptions {
             "bent_normals",
             format!("true with estimator {}", self.estimator.name()),
             "false unless the estimator is gtao",
-        )
+        )?;
+        if self.resolution == Resolution::Scaled {
+            let e = self.estimator;
+            check(
+                !e.uses_pyramid() && !e.uses_moments(),
+                "estimator",
+                e.name(),
+                "an estimator without depth mips (gtao, hbao, vo, vao) with resolution scaled",
+            )?;
+            check(
+                self.upsample == Upsampler::Bilateral,
+                "upsample",
+                self.upsample.name(),
+                "bilateral with resolution scaled",
+            )?;
+            check(
+                matches!(self.denoise, Denoise::None | Denoise::Spatial),
+                "denoise",
+                self.denoise.name(),
+                "none or spatial with resolution scaled",
+            )?;
+            check(
+                !self.bent_normals,
+                "bent_normals",
+                "true",
+                "false with resolution scaled",
+            )?;
+        }
+        Ok(())
     }
 
     /// Side of the tile of sampling patterns on the AO's working grid: 2 in 2×2
@@ -707,6 +755,12 @@ impl AoParams {
             self.max_radius_px,
             "pixels in [1, 4096]",
         )?;
+        check(
+            (MIN_SCALE..=1.0).contains(&self.scale),
+            "scale",
+            self.scale,
+            "a number in [0.25, 1]",
+        )?;
         if let CameraMotion::Moved {
             previous_from_current: m,
         } = self.motion
@@ -780,7 +834,7 @@ mod tests {
 
     #[test]
     fn out_of_range_values_name_the_field() {
-        let cases: [(AoParams, &str); 4] = [
+        let cases: [(AoParams, &str); 6] = [
             (
                 AoParams {
                     radius: f32::NAN,
@@ -809,6 +863,20 @@ mod tests {
                 },
                 "max_radius_px",
             ),
+            (
+                AoParams {
+                    scale: 0.2,
+                    ..Default::default()
+                },
+                "scale",
+            ),
+            (
+                AoParams {
+                    scale: f32::NAN,
+                    ..Default::default()
+                },
+                "scale",
+            ),
         ];
         for (p, name) in cases {
             match p.validate() {
@@ -827,5 +895,46 @@ mod tests {
                 ..
             })
         ));
+        // The scaled resolution names the option it cannot work with.
+        let scaled = AoOptions {
+            resolution: Resolution::Scaled,
+            ..Default::default()
+        };
+        assert!(scaled.validate().is_ok());
+        for (o, name) in [
+            (
+                AoOptions {
+                    estimator: Estimator::Sao,
+                    ..scaled
+                },
+                "estimator",
+            ),
+            (
+                AoOptions {
+                    upsample: Upsampler::Classified,
+                    ..scaled
+                },
+                "upsample",
+            ),
+            (
+                AoOptions {
+                    denoise: Denoise::Box,
+                    ..scaled
+                },
+                "denoise",
+            ),
+            (
+                AoOptions {
+                    bent_normals: true,
+                    ..scaled
+                },
+                "bent_normals",
+            ),
+        ] {
+            match o.validate() {
+                Err(Error::InvalidSetting { field, .. }) => assert_eq!(field, name),
+                other => panic!("{name}: expected InvalidSetting, got {other:?}"),
+            }
+        }
     }
 }

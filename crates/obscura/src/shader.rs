@@ -219,6 +219,12 @@ pub enum Pass {
     Moments { source: PyramidSource },
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
+    /// Full-resolution prepared buffer → the working grid of [`crate::Resolution::Scaled`]
+    /// (any scale; shaders/rescale.wgsl).
+    Rescale,
+    /// The working grid's AO → full resolution at any scale, joint bilateral weights
+    /// (shaders/upsample_scaled.wgsl).
+    UpsampleScaled,
     /// Low-resolution AO → full resolution; `bent`: bent normals too, `full_normals`: the
     /// full-resolution input holds normals (see shaders/upsample_bent.wgsl).
     Upsample {
@@ -297,7 +303,7 @@ impl Pass {
             v.push(Pass::Pyramid { source });
             v.push(Pass::Moments { source });
         }
-        v.push(Pass::PyramidLevels);
+        v.extend([Pass::PyramidLevels, Pass::Rescale, Pass::UpsampleScaled]);
         v.extend(DepthDownsample::ALL.map(|rule| Pass::Downsample { rule, level: 1 }));
         for upsampler in Upsampler::ALL {
             for (bent, full_normals) in [(false, true), (true, true), (true, false)] {
@@ -383,6 +389,8 @@ impl Pass {
                 DepthDownsample::Checkerboard => "downsample_checkerboard",
                 DepthDownsample::Representative => "downsample_representative",
             },
+            Pass::Rescale => "rescale",
+            Pass::UpsampleScaled => "upsample_scaled",
             Pass::Upsample {
                 upsampler, bent, ..
             } => {
@@ -453,6 +461,8 @@ impl Pass {
         const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
         const PREPARE: &str = include_str!("../shaders/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("../shaders/downsample_rule.wgsl");
+        const UPSAMPLE_FOOTPRINT: &str = include_str!("../shaders/upsample_footprint.wgsl");
+        const UPSAMPLE_BILATERAL: &str = include_str!("../shaders/upsample_bilateral.wgsl");
         // The depth source fragment of the pyramid and moments passes.
         let pyramid_source = |source: PyramidSource| match source {
             PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
@@ -558,13 +568,21 @@ impl Pass {
                 } else {
                     include_str!("../shaders/upsample_bent_none.wgsl")
                 },
+                UPSAMPLE_FOOTPRINT,
                 include_str!("../shaders/upsample.wgsl"),
                 match upsampler {
                     Upsampler::Bilinear => include_str!("../shaders/upsample_bilinear.wgsl"),
                     Upsampler::NearestDepth => include_str!("../shaders/upsample_nearest.wgsl"),
                     Upsampler::Classified => include_str!("../shaders/upsample_classified.wgsl"),
-                    Upsampler::Bilateral => include_str!("../shaders/upsample_bilateral.wgsl"),
+                    Upsampler::Bilateral => UPSAMPLE_BILATERAL,
                 },
+            ],
+            Pass::Rescale => vec![include_str!("../shaders/rescale.wgsl")],
+            Pass::UpsampleScaled => vec![
+                include_str!("../shaders/upsample_bent_none.wgsl"),
+                UPSAMPLE_FOOTPRINT,
+                include_str!("../shaders/upsample_scaled.wgsl"),
+                UPSAMPLE_BILATERAL,
             ],
             Pass::Denoise { layers, bent } => {
                 vec![
@@ -682,7 +700,11 @@ impl Pass {
                     vec![depth]
                 }
             }
-            Pass::Pyramid { .. } | Pass::PyramidLevels | Pass::ResolveDepth => vec![],
+            Pass::Pyramid { .. }
+            | Pass::PyramidLevels
+            | Pass::ResolveDepth
+            | Pass::UpsampleScaled => vec![],
+            Pass::Rescale => vec![("RECENTRE", options.recentre as u32 as f64)],
             Pass::Upsample {
                 bent, full_normals, ..
             } => {

@@ -45,6 +45,12 @@ crate::gpu_struct! {
         pub pyramid_offset: u32,
         /// The viewport size at full resolution, pixels.
         pub full_size: [u32; 2],
+        /// The AO's working grid, pixels: `ceil(full_size × scale)`.
+        pub work_size: [u32; 2],
+        /// Working pixels per full-resolution pixel (1 / the resolution's factor, or
+        /// [`crate::AoParams::scale`] with [`crate::Resolution::Scaled`]), and its inverse.
+        pub scale: f32,
+        pub inv_scale: f32,
         /// Columns (xyz; w unused) of the rotation taking the caller's normals to view
         /// space (identity for view-space normals, see [`NormalEncoding::to_view`]).
         pub normal_to_view: [[f32; 4]; 3],
@@ -53,6 +59,11 @@ crate::gpu_struct! {
         pub prev_from_view: [[f32; 4]; 4],
         /// The previous frame's `ndc_to_view`.
         pub prev_ndc_to_view: [f32; 2],
+        /// The previous frame's grid, whose texels the history holds: its size and
+        /// `inv_size` (this frame's own but with [`crate::Resolution::Scaled`], whose grid
+        /// changes with the scale).
+        pub prev_size: [u32; 2],
+        pub prev_inv_size: [f32; 2],
         /// 1 when the history holds the previous frame (same size, no cut or reset).
         pub history: u32,
         /// Most frames the history averages ([`crate::AoOptions::history`]).
@@ -66,6 +77,11 @@ crate::gpu_struct! {
         /// Per-pixel sampling patterns, see [`crate::jitter`].
         pub patterns: [[f32; 4]; PATTERN_COUNT],
     }
+}
+
+/// `ceil(size × scale)`, at least 1 and at most `size`: the working grid's side.
+pub fn scaled_size(size: u32, scale: f32) -> u32 {
+    ((size as f32 * scale).ceil() as u32).clamp(1, size.max(1))
 }
 
 impl FrameUniforms {
@@ -89,6 +105,17 @@ impl FrameUniforms {
             )));
         }
         let scale = projection.ndc_to_view_scale();
+        let work_scale = if options.resolution == crate::Resolution::Scaled {
+            params.scale
+        } else if params.scale != 1.0 {
+            return Err(crate::Error::InvalidSetting {
+                field: "scale",
+                value: params.scale.to_string(),
+                expected: "1 unless the resolution is scaled",
+            });
+        } else {
+            1.0 / options.resolution.factor() as f32
+        };
         let sin_bias = params.bias_angle_deg.to_radians().sin();
         let u = Self {
             viewport_origin: [viewport.x, viewport.y],
@@ -126,9 +153,14 @@ impl FrameUniforms {
             up_factor: options.upsample_factor(),
             pyramid_offset: 0,
             full_size: [viewport.width, viewport.height],
+            work_size: [viewport.width, viewport.height].map(|s| scaled_size(s, work_scale)),
+            scale: work_scale,
+            inv_scale: 1.0 / work_scale,
             normal_to_view: rotation.map(|c| [c[0], c[1], c[2], 0.0]),
             prev_from_view: glam::Mat4::IDENTITY.to_cols_array_2d(),
             prev_ndc_to_view: scale,
+            prev_size: [viewport.width, viewport.height],
+            prev_inv_size: [1.0 / viewport.width as f32, 1.0 / viewport.height as f32],
             history: 0,
             history_max: options.history.max(1) as f32,
             noise: [
@@ -184,12 +216,36 @@ impl FrameUniforms {
     /// on-screen radius in this grid's pixels.
     pub fn at_factor(&self, factor: u32) -> Self {
         let f = factor as f32;
+        let size = self.full_size.map(|s| s.div_ceil(factor));
+        let inv_size = self.full_size.map(|s| f / s as f32);
         Self {
-            size: self.full_size.map(|s| s.div_ceil(factor)),
-            inv_size: self.full_size.map(|s| f / s as f32),
+            size,
+            inv_size,
+            prev_size: size,
+            prev_inv_size: inv_size,
             radius_to_px: self.radius_to_px / f,
             max_radius_px: self.max_radius_px / f,
             pyramid_offset: factor.ilog2(),
+            ..*self
+        }
+    }
+
+    /// The same frame on the working grid of [`crate::Resolution::Scaled`]: `work_size`
+    /// pixels, each standing for `1 / scale` full-resolution pixels, whose centres map to
+    /// full-resolution `(q + 0.5) / scale` (`inv_size = 1 / (scale × full size)`), with the
+    /// on-screen radius in this grid's pixels.
+    /// Its `prev_size` and `prev_inv_size` are its own grid's; the caller sets the previous
+    /// frame's when the scale changed.
+    pub fn at_scale(&self) -> Self {
+        let inv_size = self.full_size.map(|s| self.inv_scale / s as f32);
+        Self {
+            size: self.work_size,
+            inv_size,
+            prev_size: self.work_size,
+            prev_inv_size: inv_size,
+            radius_to_px: self.radius_to_px * self.scale,
+            max_radius_px: self.max_radius_px * self.scale,
+            pyramid_offset: 0,
             ..*self
         }
     }
@@ -251,15 +307,22 @@ impl FrameUniforms {
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
     /// Mirrors `view_position` in shaders/common.wgsl.
     pub fn view_position(&self, p: [f32; 2], d: f32) -> glam::Vec3 {
-        self.view_position_scaled(p, d, self.ndc_to_view)
+        self.view_position_scaled(p, d, self.ndc_to_view, self.inv_size)
     }
 
-    /// [`FrameUniforms::view_position`] with another projection's `ndc_to_view` (the
-    /// previous frame's); mirrors `view_position_scaled` in shaders/common.wgsl.
-    pub fn view_position_scaled(&self, p: [f32; 2], d: f32, ndc_to_view: [f32; 2]) -> glam::Vec3 {
+    /// [`FrameUniforms::view_position`] with another projection's `ndc_to_view` on another
+    /// grid's `inv_size` (the previous frame's); mirrors `view_position_scaled` in
+    /// shaders/common.wgsl.
+    pub fn view_position_scaled(
+        &self,
+        p: [f32; 2],
+        d: f32,
+        ndc_to_view: [f32; 2],
+        inv_size: [f32; 2],
+    ) -> glam::Vec3 {
         let ndc = glam::Vec2::new(
-            p[0] * self.inv_size[0] * 2.0 - 1.0,
-            1.0 - p[1] * self.inv_size[1] * 2.0,
+            p[0] * inv_size[0] * 2.0 - 1.0,
+            1.0 - p[1] * inv_size[1] * 2.0,
         );
         let mut xy = ndc * glam::Vec2::from(ndc_to_view);
         if self.perspective != 0 {
@@ -325,7 +388,12 @@ mod tests {
                 directions: f(4.0).abs().min(100.0) as u32,
                 steps: f(4.0).abs().min(100.0) as u32,
                 mode: AoMode::ALL[pick(3)],
-                resolution: Resolution::ALL[pick(3)],
+                resolution: [
+                    Resolution::Full,
+                    Resolution::Half,
+                    Resolution::Quarter,
+                    Resolution::Scaled,
+                ][pick(4)],
                 downsample: crate::DepthDownsample::ALL[pick(4)],
                 upsample: crate::Upsampler::ALL[pick(4)],
                 denoise: crate::Denoise::ALL[pick(4)],
@@ -358,6 +426,7 @@ mod tests {
                 bias_angle_deg: f(10.0),
                 strength: f(1.0),
                 max_radius_px: f(256.0),
+                scale: f(1.0),
                 depth_noise: crate::DepthNoise {
                     constant: f(0.0),
                     linear: f(0.0),

@@ -49,6 +49,9 @@ struct Run {
     levels: Vec<Vec<Vec4>>,
     /// The AO at working resolution before upsampling (when there is one).
     work_ao: Vec<f32>,
+    /// The prepared buffer at the frame's scale (`Resolution::Scaled`; its texture is
+    /// full-size, the working grid its top-left corner), else empty.
+    scaled: Vec<Vec4>,
     /// Full-resolution linear depth written by the fused downsampling prepare (below full
     /// resolution), else empty.
     linear_depth: Vec<f32>,
@@ -113,6 +116,9 @@ fn run_ao(
     let work_ao = ao
         .working_ao()
         .map_or(Vec::new(), |t| c.read_f32(t).unwrap());
+    let scaled = ao
+        .scaled_prepared()
+        .map_or(Vec::new(), |t| vec4s(c.read_f32(t).unwrap()));
     let linear_depth = ao
         .linear_depth()
         .map_or(Vec::new(), |t| c.read_f32(t).unwrap());
@@ -132,6 +138,7 @@ fn run_ao(
         moments,
         levels,
         work_ao,
+        scaled,
         linear_depth,
         ao: c.read_f32(ao.output().unwrap()).unwrap(),
         frame,
@@ -2526,6 +2533,211 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
             }
         }
     }
+}
+
+/// The top-left `size` texels of a row-major image `width` texels wide.
+fn crop<T: Copy>(v: &[T], width: u32, size: [u32; 2]) -> Vec<T> {
+    (0..size[1])
+        .flat_map(|y| (0..size[0]).map(move |x| (y * width + x) as usize))
+        .map(|i| v[i])
+        .collect()
+}
+
+/// `Resolution::Scaled`, at scales that are not powers of two: the rescale pass, the AO on
+/// the working grid and the any-scale upsampler each against its CPU mirror, from the GPU's
+/// own input to each; at scale 1 the whole pipeline gives the full-resolution AO; and a scale
+/// that changes every frame creates no GPU object.
+#[test]
+fn scaled_resolution_matches_cpu_reference_and_is_full_resolution_at_scale_one() {
+    let _g = lock();
+    let p = persp(W, H);
+    let raw = test_scene(&p, W, H);
+    let run = |options, scale| {
+        let params = AoParams {
+            radius: 1.5,
+            scale,
+            ..Default::default()
+        };
+        run_ao(
+            &raw,
+            W,
+            H,
+            p,
+            DepthConvention::LinearView,
+            None,
+            options,
+            &params,
+        )
+    };
+    for mode in [AoMode::Randomized, AoMode::Deinterleaved2] {
+        for scale in [0.25, 0.4, 0.7, 0.93] {
+            let options = AoOptions {
+                resolution: Resolution::Scaled,
+                mode,
+                denoise: Denoise::None,
+                ..Default::default()
+            };
+            let what = format!("{mode:?} at scale {scale}");
+            let r = run(options, scale);
+            let work = r.frame.at_scale();
+            let expected = [W, H].map(|s| (s as f32 * scale).ceil() as u32);
+            assert_eq!(work.size, expected, "{what}: working grid");
+            let scaled = crop(&r.scaled, W, work.size);
+            let cpu = reference::rescale(&work, true, &r.prepared);
+            assert_rounding_only(&flat(&scaled), &flat(&cpu), &format!("{what}: rescale"));
+            // Every working texel is a full-resolution pixel's value (recentred: its
+            // depth within 10%, its normal the same).
+            let work_ao = crop(&r.work_ao, W, work.size);
+            let cpu = reference::ao(&work, &options, &scaled);
+            let diffs: Vec<f32> = work_ao
+                .iter()
+                .zip(&cpu)
+                .map(|(g, c)| (g - c).abs())
+                .collect();
+            let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+            let max = diffs.iter().cloned().fold(0.0, f32::max);
+            // As for the other working resolutions: 99% within 2e-3, none beyond 0.1.
+            assert!(
+                close * 100 >= diffs.len() * 99 && max <= 0.1,
+                "{what}: AO {close}/{} within 2e-3, max {max}",
+                diffs.len()
+            );
+            let cpu = reference::upsample_scaled(&r.frame, &r.prepared, &work_ao, &scaled);
+            let close =
+                r.ao.iter()
+                    .zip(&cpu)
+                    .filter(|(g, c)| (*g - *c).abs() <= 1e-3)
+                    .count();
+            // As for the other upsamplers: 99.5% within 1e-3 (exp and pow round differently).
+            assert!(
+                close * 200 >= r.ao.len() * 199,
+                "{what}: upsampled {close}/{}",
+                r.ao.len()
+            );
+            assert!(r.ao.iter().any(|&a| a < 0.9), "{what}: occlusion");
+        }
+        // Scale 1: the full-resolution pipeline, with and without the denoiser and history.
+        for (denoise, history) in [
+            (Denoise::None, 0),
+            (Denoise::Spatial, 0),
+            (Denoise::Spatial, 4),
+        ] {
+            let options = AoOptions {
+                mode,
+                denoise,
+                history,
+                ..Default::default()
+            };
+            let full = run(options, 1.0);
+            let scaled = run(
+                AoOptions {
+                    resolution: Resolution::Scaled,
+                    ..options
+                },
+                1.0,
+            );
+            // Recentring moves each depth by rounding only, which may flip a sample at the
+            // radius's edge.
+            assert_rounding_only_but_ties(
+                &scaled.ao,
+                &full.ao,
+                &format!("{mode:?} {denoise:?} history {history}: scale 1 against full"),
+            );
+        }
+    }
+    // A scale that changes every frame: the textures of scale 1 serve every grid.
+    let c = ctx();
+    let options = AoOptions {
+        resolution: Resolution::Scaled,
+        denoise: Denoise::Spatial,
+        history: 8,
+        ..Default::default()
+    };
+    let mut ao = Ao::new(&c.device, options).unwrap();
+    let tex = upload_r32(&raw, W, H);
+    let view = tex.create_view(&Default::default());
+    let mut after_first = None;
+    for i in 0..20 {
+        let params = AoParams {
+            scale: 0.25 + 0.75 * ((i * 7) % 20) as f32 / 19.0,
+            ..Default::default()
+        };
+        let input = linear_input(&view, p);
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap();
+        let created = ao.resource_creations();
+        assert_eq!(*after_first.get_or_insert(created), created, "frame {i}");
+        let out = c.read_f32(ao.output().unwrap()).unwrap();
+        assert!(out.iter().all(|a| (0.0..=1.0).contains(a)), "frame {i}");
+    }
+    // Temporal accumulation across a change of scale: frame B (scale 0.8) reprojects into
+    // the history frame A wrote on its own grid (scale 0.6); the GPU's temporal pass against
+    // the mirror run on the GPU's own inputs (tolerance as tests/temporal.rs: 99.5% within
+    // 1e-4).
+    let mut ao = Ao::new(
+        &c.device,
+        AoOptions {
+            resolution: Resolution::Scaled,
+            denoise: Denoise::None,
+            history: 8,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let input = linear_input(&view, p);
+    let vec4s = |t: &wgpu::Texture| -> Vec<Vec4> {
+        let v = c.read_f32(t).unwrap();
+        v.chunks_exact(4).map(Vec4::from_slice).collect()
+    };
+    let mut run_at = |scale: f32| {
+        let params = AoParams {
+            scale,
+            ..Default::default()
+        };
+        let work = ao.validate(&input, &params).unwrap().at_scale();
+        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
+            .unwrap();
+        let n = work.size;
+        let history = crop(&vec4s(ao.history().unwrap()), W, n);
+        let scaled = crop(&vec4s(ao.scaled_prepared().unwrap()), W, n);
+        let raw = crop(&c.read_f32(ao.raw_ao().unwrap()).unwrap(), W, n);
+        let out = crop(&c.read_f32(ao.working_ao().unwrap()).unwrap(), W, n);
+        (work, history, scaled, raw, out)
+    };
+    let (a, history_a, ..) = run_at(0.6);
+    let (mut b, history_b, scaled_b, raw_b, out_b) = run_at(0.8);
+    b.history = 1;
+    (b.prev_size, b.prev_inv_size) = (a.size, a.inv_size);
+    let (history, out) = reference::temporal(&b, &scaled_b, &raw_b, &history_a);
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4;
+    let n = out.len();
+    let ok_out = out
+        .iter()
+        .zip(&out_b)
+        .filter(|(x, y)| close(**x, **y))
+        .count();
+    let ok_hist = history
+        .iter()
+        .zip(&history_b)
+        .filter(|(x, y)| close(x.x, y.x) && close(x.y, y.y) && close(x.z, y.z))
+        .count();
+    assert!(ok_out * 200 >= n * 199, "temporal output {ok_out}/{n}");
+    assert!(ok_hist * 200 >= n * 199, "temporal history {ok_hist}/{n}");
+    // The still camera kept the history across the change of grid on most surface texels.
+    let kept = history_b.iter().filter(|h| h.y == 2.0).count();
+    let surface = history_b.iter().filter(|h| h.z > 0.0).count();
+    assert!(kept * 10 >= surface * 9, "history kept on {kept}/{surface}");
+    // Scale 1 is the only scale the other resolutions take.
+    let params = AoParams {
+        scale: 0.5,
+        ..Default::default()
+    };
+    let full = Ao::new(&c.device, AoOptions::default()).unwrap();
+    let input = linear_input(&view, p);
+    assert!(matches!(
+        full.validate(&input, &params),
+        Err(Error::InvalidSetting { field: "scale", .. })
+    ));
 }
 
 /// Deterministic Gaussian noise for the noisy-depth tests.

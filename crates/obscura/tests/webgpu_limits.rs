@@ -72,6 +72,17 @@ fn every_option_runs_within_webgpu_default_limits() {
             pyramid: obscura::PyramidBuild::FourLevelsPerPass,
             ..Default::default()
         });
+        if !estimator.uses_pyramid() && !estimator.uses_moments() {
+            for mode in [AoMode::Randomized, AoMode::Deinterleaved4] {
+                all.push(AoOptions {
+                    estimator,
+                    mode,
+                    resolution: Resolution::Scaled,
+                    history: 8,
+                    ..Default::default()
+                });
+            }
+        }
     }
     for resolution in Resolution::ALL {
         for upsample in Upsampler::ALL {
