@@ -158,6 +158,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if a.runs == 0 || a.runs > 100 {
         bail!("--runs must be in 1..=100");
     }
+    if a.resolution.scale != 1.0 && a.resolution.resolution != Resolution::Scaled {
+        bail!(
+            "--scale {} needs --resolution scaled (the other resolutions have fixed scales)",
+            a.resolution.scale
+        );
+    }
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
@@ -203,6 +209,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];
             for round in 0..=a.runs {
                 for (i, ao) in aos.iter_mut().enumerate() {
+                    // `--compare resolutions` runs the fixed resolutions, at scale 1.
+                    let scaled = ao.options().resolution == Resolution::Scaled;
+                    let params = AoParams {
+                        scale: if scaled { params.scale } else { 1.0 },
+                        ..params
+                    };
                     let t = ao.run_timed(&ctx, &input, &params, timing)?;
                     if round > 0 {
                         times[i].push(t);

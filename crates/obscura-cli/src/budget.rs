@@ -69,6 +69,11 @@ pub fn orbit(
     dir: &Path,
 ) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    // The ladder's resolutions are fixed: scale 1 whatever --scale says.
+    let params = &AoParams {
+        scale: 1.0,
+        ..*params
+    };
     // Every level is created and warmed up on the first view (shader compilation and its
     // textures), then timed there: those times are the controller's nominal costs, and no
     // GPU object is created during the orbit.
@@ -245,6 +250,7 @@ pub fn orbit_scaled(
             Denoise::None => Denoise::None,
             _ => Denoise::Spatial,
         },
+        bent_normals: false,
         ..base
     };
     let mut ao = Ao::new(&ctx.device, options)?;
@@ -272,7 +278,8 @@ pub fn orbit_scaled(
         let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
         let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
         let scale = control.scale();
-        // The history is at full resolution: it carries over a change of scale.
+        // The history is on the working grid; the temporal pass reprojects it into last
+        // frame's grid, so it carries over a change of scale.
         let motion = previous.map_or(CameraMotion::Cut, |p| c.motion_since(&p));
         let p = AoParams {
             motion,

@@ -2070,7 +2070,9 @@ impl Ao {
     }
 
     /// The temporal history written by the last frame (`Rgba32Float` at the working
-    /// resolution: `vec4(AO, frames accumulated (0 = sky), linear depth, packed normal)`
+    /// resolution; with [`Resolution::Scaled`] a full-size texture whose top-left
+    /// `ceil(full × scale)` texels hold it: `vec4(AO, frames accumulated (0 = sky), linear
+    /// depth, packed normal)`
     /// (`reference::unpack_normal` decodes it)), when
     /// [`AoOptions::history`] is on and a frame was recorded.
     pub fn history(&self) -> Option<&wgpu::Texture> {
@@ -2122,8 +2124,8 @@ impl Ao {
     }
 
     /// The AO pass's own output at working resolution when it does not write the output
-    /// directly (for tests against the CPU mirrors). With both the temporal pass and the
-    /// denoiser, the denoiser writes over it.
+    /// directly (for tests against the CPU mirrors). Below full resolution with both the
+    /// temporal pass and the denoiser, the denoiser writes over it.
     pub fn raw_ao(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::AoWork))
     }

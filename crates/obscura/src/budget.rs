@@ -179,8 +179,8 @@ pub const SCALE_DEAD_BAND: f64 = 0.03;
 /// [[`crate::MIN_SCALE`], 1] to hold a frame-time budget.
 ///
 /// The AO's cost is close to affine in the working area x = s²: `time = floor + c × x`, the
-/// floor being the passes at full resolution (prepare, the upsampler, the temporal pass) and
-/// per-pass overheads. Each frame the controller sets
+/// floor being the passes at full resolution (prepare, the upsampler) and per-pass
+/// overheads. Each frame the controller sets
 /// `x ← x × (budget / time)^SCALE_GAIN` (an integral controller on ln x), unless the time
 /// is within [`SCALE_DEAD_BAND`] of the budget. The loop gain is `SCALE_GAIN × d ln time /
 /// d ln x`, and for an affine cost `d ln time / d ln x = c x / time` lies in [0, 1]: the

@@ -172,9 +172,10 @@ pub enum Resolution {
     /// `ceil(full × scale)`. Textures are created once for scale 1. Each working texel takes
     /// the prepared value of the full-resolution pixel nearest its footprint's centre,
     /// recentred along its tangent plane (shaders/rescale.wgsl); the AO comes back through
-    /// the joint bilateral upsampler at that scale (shaders/upsample_scaled.wgsl), and the
-    /// temporal history (with [`AoOptions::history`]) runs after it at full resolution, as
-    /// engines place TAA after upscaling. At scale 1 it is the full-resolution pipeline.
+    /// the joint bilateral upsampler at that scale (shaders/upsample_scaled.wgsl). Temporal
+    /// accumulation (with [`AoOptions::history`]) runs on the working grid, reprojecting
+    /// into the previous frame's grid whatever its scale. At scale 1 it is the
+    /// full-resolution pipeline.
     /// Needs the bilateral upsampler, the spatial or no denoiser, an estimator without
     /// depth mips (not SAO or VO's area integral) and no bent normals.
     Scaled,

@@ -38,7 +38,8 @@ crate::gpu_struct! {
         /// (1 − sin_bias)); GTAO strength / directions; VO and VAO strength; SAO
         /// 2 · strength / samples.
         pub ao_scale: f32,
-        /// Full-resolution pixels per pixel of the AO the upsampler reads (1, 2, 4 or 8).
+        /// Full-resolution pixels per pixel of the AO the upsampler reads (1, 2, 4 or 8; 1
+        /// with [`crate::Resolution::Scaled`], whose upsampler maps by `scale`).
         pub up_factor: u32,
         /// log2 of the full-resolution pixels per pixel of this frame's grid: depth pyramid
         /// level L of the full-resolution buffer is level L − pyramid_offset here.
@@ -64,7 +65,8 @@ crate::gpu_struct! {
         /// changes with the scale).
         pub prev_size: [u32; 2],
         pub prev_inv_size: [f32; 2],
-        /// 1 when the history holds the previous frame (same size, no cut or reset).
+        /// 1 when the history holds the previous frame (same viewport size, no cut or
+        /// reset; with [`crate::Resolution::Scaled`] on a grid of `prev_size`).
         pub history: u32,
         /// Most frames the history averages ([`crate::AoOptions::history`]).
         pub history_max: f32,
