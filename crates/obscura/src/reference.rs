@@ -949,7 +949,6 @@ pub fn downsample(
     size: [u32; 2],
     prepared: &[Vec4],
 ) -> ([u32; 2], Vec<Vec4>) {
-    use crate::DepthDownsample as R;
     let dst = size.map(|s| s.div_ceil(2));
     let mut out = Vec::with_capacity((dst[0] * dst[1]) as usize);
     for ty in 0..dst[1] {
@@ -967,20 +966,7 @@ pub fn downsample(
                 out.push(Vec4::new(0.0, 0.0, 0.0, 1.0));
                 continue;
             }
-            let rule = match rule {
-                R::Checkerboard if (tx + ty) % 2 == 1 => R::Max,
-                R::Checkerboard => R::Min,
-                r => r,
-            };
-            let pick = match rule {
-                R::Max => children
-                    .iter()
-                    .fold(children[0], |a, &b| if b.1.x > a.1.x { b } else { a }),
-                R::Min => children
-                    .iter()
-                    .fold(children[0], |a, &b| if b.1.x < a.1.x { b } else { a }),
-                _ => most_representative(&children),
-            };
+            let pick = pick_child(rule, [tx, ty], &children);
             out.push(if recentre {
                 recentred(f, level, [tx, ty], pick.0, pick.1)
             } else {
@@ -989,6 +975,26 @@ pub fn downsample(
         }
     }
     (dst, out)
+}
+
+/// The child `rule` picks for texel `t` among `children` (index, value), none of them sky;
+/// mirrors `pick_child` in shaders/downsample_rule.wgsl.
+fn pick_child(rule: crate::DepthDownsample, t: [u32; 2], children: &[(u32, Vec4)]) -> (u32, Vec4) {
+    use crate::DepthDownsample as R;
+    let rule = match rule {
+        R::Checkerboard if (t[0] + t[1]) % 2 == 1 => R::Max,
+        R::Checkerboard => R::Min,
+        r => r,
+    };
+    match rule {
+        R::Max => children
+            .iter()
+            .fold(children[0], |a, &b| if b.1.x > a.1.x { b } else { a }),
+        R::Min => children
+            .iter()
+            .fold(children[0], |a, &b| if b.1.x < a.1.x { b } else { a }),
+        _ => most_representative(children),
+    }
 }
 
 /// The pick moved along its tangent plane to the centre of texel `t`; mirrors `recentred`
@@ -1027,21 +1033,45 @@ pub fn recentred_to(f: &FrameUniforms, from: [f32; 2], centre: [f32; 2], v: Vec4
 }
 
 /// The prepared buffer on the working grid of [`crate::Resolution::Scaled`] (`work`: the
-/// working frame, [`FrameUniforms::at_scale`]), from the full-resolution `prepared`: each
-/// texel the full-resolution pixel nearest its centre, recentred when `recentre`; mirrors
+/// working frame, [`FrameUniforms::at_scale`]), from the full-resolution `prepared`: for
+/// each texel, `rule` picks among the pixels of the 2 × 2 nearest its centre whose centres
+/// it covers (else the pixel nearest its centre), recentred when `recentre`; mirrors
 /// shaders/rescale.wgsl. Returns `work.size` texels.
-pub fn rescale(work: &FrameUniforms, recentre: bool, prepared: &[Vec4]) -> Vec<Vec4> {
+pub fn rescale(
+    rule: crate::DepthDownsample,
+    work: &FrameUniforms,
+    recentre: bool,
+    prepared: &[Vec4],
+) -> Vec<Vec4> {
     let full = work.full_size;
+    let last = [full[0] as i32 - 1, full[1] as i32 - 1];
     let mut out = Vec::with_capacity((work.size[0] * work.size[1]) as usize);
     for y in 0..work.size[1] {
         for x in 0..work.size[0] {
             let q = [x as f32 + 0.5, y as f32 + 0.5];
-            let p = [
-                ((q[0] * work.inv_scale) as u32).min(full[0] - 1),
-                ((q[1] * work.inv_scale) as u32).min(full[1] - 1),
-            ];
-            let v = prepared[(p[1] * full[0] + p[0]) as usize];
-            out.push(if recentre && v.x > 0.0 {
+            let c = [q[0] * work.inv_scale, q[1] * work.inv_scale];
+            let first = [(c[0] - 0.5).floor() as i32, (c[1] - 0.5).floor() as i32];
+            let pixel = |i: u32| [first[0] + (i & 1) as i32, first[1] + (i >> 1) as i32];
+            let at = |p: [i32; 2]| prepared[(p[1] * full[0] as i32 + p[0]) as usize];
+            let children: Vec<(u32, Vec4)> = (0..4)
+                .filter(|&i| {
+                    let p = pixel(i);
+                    let mine = |k: usize, t: u32| {
+                        (0..=last[k]).contains(&p[k])
+                            && ((p[k] as f32 + 0.5) * work.scale) as u32 == t
+                    };
+                    mine(0, x) && mine(1, y) && at(p).x > 0.0
+                })
+                .map(|i| (i, at(pixel(i))))
+                .collect();
+            if children.is_empty() {
+                let nearest = [(c[0] as i32).min(last[0]), (c[1] as i32).min(last[1])];
+                out.push(at(nearest));
+                continue;
+            }
+            let (i, v) = pick_child(rule, [x, y], &children);
+            out.push(if recentre {
+                let p = pixel(i);
                 let from = [
                     (p[0] as f32 + 0.5) * work.scale,
                     (p[1] as f32 + 0.5) * work.scale,

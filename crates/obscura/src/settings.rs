@@ -170,8 +170,10 @@ pub enum Resolution {
     /// Any scale in [1/4, 1], chosen per frame ([`AoParams::scale`]; a frame-budget
     /// controller sets it, [`crate::budget::ScaleController`]): the AO grid is
     /// `ceil(full × scale)`. Textures are created once for scale 1. Each working texel takes
-    /// the prepared value of the full-resolution pixel nearest its footprint's centre,
-    /// recentred along its tangent plane (shaders/rescale.wgsl); the AO comes back through
+    /// the prepared value of one of the full-resolution pixels it covers, chosen by
+    /// [`AoOptions::downsample`]'s rule among the 2 × 2 nearest its centre (at scale 1/2
+    /// half resolution's picks), recentred along its tangent plane (shaders/rescale.wgsl);
+    /// the AO comes back through
     /// the joint bilateral upsampler at that scale (shaders/upsample_scaled.wgsl). Temporal
     /// accumulation (with [`AoOptions::history`]) runs on the working grid, reprojecting
     /// into the previous frame's grid whatever its scale. At scale 1 it is the

@@ -220,7 +220,7 @@ pub enum Pass {
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
     /// Full-resolution prepared buffer → the working grid of [`crate::Resolution::Scaled`]
-    /// (any scale; shaders/rescale.wgsl).
+    /// (any scale, by the depth rule of `AoOptions::downsample`; shaders/rescale.wgsl).
     Rescale,
     /// The working grid's AO → full resolution at any scale, joint bilateral weights
     /// (shaders/upsample_scaled.wgsl).
@@ -577,7 +577,7 @@ impl Pass {
                     Upsampler::Bilateral => UPSAMPLE_BILATERAL,
                 },
             ],
-            Pass::Rescale => vec![include_str!("../shaders/rescale.wgsl")],
+            Pass::Rescale => vec![DOWNSAMPLE_RULE, include_str!("../shaders/rescale.wgsl")],
             Pass::UpsampleScaled => vec![
                 include_str!("../shaders/upsample_bent_none.wgsl"),
                 UPSAMPLE_FOOTPRINT,
@@ -704,7 +704,7 @@ impl Pass {
             | Pass::PyramidLevels
             | Pass::ResolveDepth
             | Pass::UpsampleScaled => vec![],
-            Pass::Rescale => vec![("RECENTRE", options.recentre as u32 as f64)],
+            Pass::Rescale => rule(options.downsample, 1),
             Pass::Upsample {
                 bent, full_normals, ..
             } => {
