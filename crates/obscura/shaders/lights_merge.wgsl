@@ -15,15 +15,22 @@
 // every edge; the centre's own class always counts. Irradiance linear across a surface
 // comes back exactly, since each class is interpolated at the centre rather than read
 // beside it. Taps past the image border are dropped (each class keeps one on the inner
-// side where the image spans at least a period). Composed after prepared_full.wgsl and merge.wgsl. Sky pixels pass through.
-// CPU mirror: src/reference.rs, `merge_lights`.
+// side where the image spans at least a period). Sky pixels pass through.
+// Composed after a tap source (merge_taps_packed.wgsl: one packed texel, as Lights merges;
+// merge_taps_plain.wgsl: the prepared source and a lit texture, as the SSDO bounce is
+// merged), an output (lit_out_packed.wgsl between the axes, else lit_out_plain.wgsl) and
+// merge.wgsl. CPU mirror: src/reference.rs, `merge_lights`, `merge_lights_packed`.
 
 override PERIOD: u32 = 2u;
 override AXIS: u32 = 0u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
-@group(0) @binding(2) var lit_in: texture_2d<f32>;
-@group(0) @binding(3) var lit_out: texture_storage_2d<rgba32float, write>;
+
+// What the merge reads of a pixel: vec4(linear depth, view normal) and irradiance.
+struct MergeTap {
+    geometry: vec4<f32>,
+    lit: vec3<f32>,
+}
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -31,8 +38,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(gid.xy);
-    let centre = prepared_at(p);
-    let e = textureLoad(lit_in, p, 0).xyz;
+    let own = merge_tap(p);
+    let centre = own.geometry;
     let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
     let n = centre.yzw;
     let inv_tol = 1.0 / plane_tolerance(centre.x);
@@ -48,7 +55,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Class j of the axis (the pixels j before p modulo the period) has its lattice
     // pixels at −j and period − j, with linear weights period − j and j: for j = 0 that
     // is p alone (p's own class, always counted).
-    var sum = e;
+    var sum = own.lit;
     var classes = 1.0;
     for (var j = 1; j < period; j++) {
         var total = 0.0;
@@ -60,18 +67,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             let q = p + d * step;
             // Sky, or not a depth at all (NaN), is no tap.
-            let s = prepared_at(q);
-            if !(s.x > 0.0) {
+            let s = merge_tap(q);
+            if !(s.geometry.x > 0.0) {
                 continue;
             }
-            let w = f32(period - abs(d)) * merge_weight(pos, n, inv_tol, q, s);
+            let w = f32(period - abs(d)) * merge_weight(pos, n, inv_tol, q, s.geometry);
             total += w;
-            acc += w * textureLoad(lit_in, q, 0).xyz;
+            acc += w * s.lit;
         }
         if total >= LIGHTS_CLASS_MIN_WEIGHT {
             sum += acc / total;
             classes += 1.0;
         }
     }
-    textureStore(lit_out, p, vec4<f32>(sum / classes, 1.0));
+    store_lit(p, centre, sum / classes);
 }

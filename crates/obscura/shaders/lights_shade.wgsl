@@ -1,6 +1,8 @@
 // Many-light diffuse shading, every light or an interleaved subset per pixel (Segovia,
 // Iehl, Mitanchey & Péroche 2006, "Non-interleaved Deferred Shading of Interleaved Sample
-// Patterns"; seed 000's interleaved sampling). Composed after prepared_full.wgsl.
+// Patterns"; seed 000's interleaved sampling). Composed after prepared_full.wgsl (or
+// prepared_layers.wgsl) and an output: lit_out_plain.wgsl, or lit_out_packed.wgsl when a
+// merge follows.
 //
 // With PERIOD n > 1, pixel p shades only the lights whose index is congruent to its layer
 // (common.wgsl, `layer_of`) modulo n², scaled by n²: each pixel class of an n × n tile
@@ -27,7 +29,6 @@ override LAYERED: bool = false;
 // ran 10.7× faster so (BENCHMARKS.md, "Many-light shading"). Hence at most LIGHTS_MAX.
 @group(0) @binding(2) var<uniform> lights: array<GpuLight, LIGHTS_MAX>;
 @group(0) @binding(3) var<uniform> shade: LightsUniforms;
-@group(0) @binding(4) var lit_out: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -60,5 +61,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         e *= f32(stride);
     }
-    textureStore(lit_out, p, vec4<f32>(e, 1.0));
+    store_lit(p, centre, e);
 }

@@ -21,9 +21,10 @@
 
 use crate::layout::layer_size;
 use crate::shader::{
-    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, BENT_FORMAT,
-    HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT,
-    PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS, RESOLVED_DEPTH_FORMAT,
+    dispatch_size, DepthBinding, MergeSource, Pass, PrepareStore, PyramidSource, AO_FORMAT,
+    BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT,
+    MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -827,6 +828,15 @@ const UNFILTERED: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { fil
 const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
 const D2_ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
 
+/// The many-light passes' output: packed for the merge, or irradiance.
+fn lit_format(packed: bool) -> wgpu::TextureFormat {
+    if packed {
+        LIT_PACKED_FORMAT
+    } else {
+        LIT_FORMAT
+    }
+}
+
 /// The bind group layout of `pass`: uniforms at 0, then its textures.
 fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
@@ -960,17 +970,23 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(1, UNFILTERED, D2),
             storage_entry(2, AO_FORMAT, D2),
         ],
-        Pass::LightsShade { layers } => vec![
+        Pass::LightsShade { layers, packed } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             uniform_entry(2),
             uniform_entry(3),
-            storage_entry(4, LIT_FORMAT, D2),
+            storage_entry(4, lit_format(packed), D2),
         ],
-        Pass::LightsMerge { layers } => vec![
-            texture_entry(1, UNFILTERED, dim(layers)),
-            texture_entry(2, UNFILTERED, D2),
-            storage_entry(3, LIT_FORMAT, D2),
-        ],
+        Pass::LightsMerge { source, packed_out } => {
+            let mut v = match source {
+                MergeSource::Prepared { layers } => vec![
+                    texture_entry(1, UNFILTERED, dim(layers)),
+                    texture_entry(2, UNFILTERED, D2),
+                ],
+                MergeSource::Packed => vec![texture_entry(2, wgpu::TextureSampleType::Uint, D2)],
+            };
+            v.push(storage_entry(4, lit_format(packed_out), D2));
+            v
+        }
         Pass::SsdoBounce { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),

@@ -13,18 +13,26 @@
 //! layout, one set of weights, two filters (docs/filters.md).
 //!
 //! ```text
-//! prepared ──lights_shade (pixel class k of N×N: lights k, k+N², …, × N²)──▶ lit
-//!          ──lights_merge (each class interpolated, plane + normal weights)──▶ irradiance
+//! prepared ──lights_shade (pixel class k of N×N: lights k, k+N², …, × N²)──▶ lit (packed)
+//!          ──lights_merge along x (each class interpolated, plane + normal weights)──▶ packed
+//!          ──lights_merge along y──▶ irradiance
 //! ```
+//!
+//! Where a merge follows, the shading writes each pixel's depth, normal and irradiance
+//! in one packed texel (shaders/lit_packed.wgsl), so each of the merge's taps is one
+//! fetch instead of two: on lavapipe the merge cost about 30% less so (BENCHMARKS.md,
+//! "Many-light shading").
 //!
 //! `period` 1 shades every light at every pixel (the reference the interleaved result is
 //! judged against). Created once; [`Lights::record`] per frame writes three small buffers
 //! (frame, count, lights) and records one dispatch, or three with the merge; GPU objects are
 //! made only on the first frame at a size or with a new prepared texture. CPU mirror: [`crate::reference::shade_lights`] and
-//! [`crate::reference::merge_lights`].
+//! [`crate::reference::merge_lights_packed`] (and [`crate::reference::pack_lit`]).
 
 use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
-use crate::shader::{dispatch_size, Pass, LIT_FORMAT, PREPARED_FORMAT};
+use crate::shader::{
+    dispatch_size, MergeSource, Pass, LIT_FORMAT, LIT_PACKED_FORMAT, PREPARED_FORMAT,
+};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -334,12 +342,21 @@ impl Lights {
             "LAYERED",
             (options.layered && options.period > 1) as u32 as f64,
         ));
-        let shade = compile_with(device, Pass::LightsShade { layers }, &shade_constants);
-        let merge = options.merges().then(|| {
+        let packed = options.merges();
+        let shade = compile_with(
+            device,
+            Pass::LightsShade { layers, packed },
+            &shade_constants,
+        );
+        // The merge reads packed texels only: geometry and irradiance in one fetch.
+        let merge = packed.then(|| {
             [0.0, 1.0].map(|axis| {
-                let mut c = constants.clone();
-                c.push(("AXIS", axis));
-                compile_with(device, Pass::LightsMerge { layers }, &c)
+                let c = [("PERIOD", options.period as f64), ("AXIS", axis)];
+                let pass = Pass::LightsMerge {
+                    source: MergeSource::Packed,
+                    packed_out: axis == 0.0,
+                };
+                compile_with(device, pass, &c)
             })
         });
         Pipelines {
@@ -453,10 +470,24 @@ impl Lights {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
-        let lit = make_texture(device, "obscura lit", dims, 1, 1, LIT_FORMAT);
+        let raw_format = if pipelines.merge.is_some() {
+            LIT_PACKED_FORMAT
+        } else {
+            LIT_FORMAT
+        };
+        let lit = make_texture(device, "obscura lit", dims, 1, 1, raw_format);
         let merged = pipelines.merge.is_some().then(|| {
-            ["obscura lit merged x", "obscura lit merged"]
-                .map(|label| make_texture(device, label, dims, 1, 1, LIT_FORMAT))
+            [
+                make_texture(
+                    device,
+                    "obscura lit merged x",
+                    dims,
+                    1,
+                    1,
+                    LIT_PACKED_FORMAT,
+                ),
+                make_texture(device, "obscura lit merged", dims, 1, 1, LIT_FORMAT),
+            ]
         });
         let prepared_view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(if split > 0 {
@@ -504,14 +535,7 @@ impl Lights {
                     mx.create_view(&Default::default()),
                     my.create_view(&Default::default()),
                 );
-                let entries = |from, to| {
-                    [
-                        frame.clone(),
-                        view(1, &prepared_view),
-                        view(2, from),
-                        view(3, to),
-                    ]
-                };
+                let entries = |from, to| [frame.clone(), view(2, from), view(4, to)];
                 Some([
                     group(x, &entries(&lit_view, &mx)),
                     group(y, &entries(&mx, &my)),
@@ -541,7 +565,9 @@ impl Lights {
             .map(|s| s.merged.as_ref().map_or(&s.lit, |[_, m]| m))
     }
 
-    /// The raw shading before the merge (each pixel its class's lights, × period²).
+    /// The raw shading before the merge (each pixel its class's lights, × period²): where
+    /// the passes merge, packed with each pixel's geometry ([`crate::shader::LIT_PACKED_FORMAT`];
+    /// [`crate::reference::unpack_lit`] decodes it), else as [`Lights::output`].
     pub fn raw(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().map(|s| &s.lit)
     }

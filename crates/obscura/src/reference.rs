@@ -1473,8 +1473,71 @@ pub fn shade_lights(
 /// classes whose weights sum below `LIGHTS_CLASS_MIN_WEIGHT` left out, the rest
 /// averaged; sky passes through.
 pub fn merge_lights(f: &FrameUniforms, prepared: &[Vec4], lit: &[Vec3], period: u32) -> Vec<Vec3> {
-    let along_x = merge_lights_axis(f, prepared, lit, period, 0);
-    merge_lights_axis(f, prepared, &along_x, period, 1)
+    let taps: Vec<(Vec4, Vec3)> = prepared.iter().copied().zip(lit.iter().copied()).collect();
+    let along_x = merge_lights_axis(f, &taps, period, 0);
+    let taps: Vec<(Vec4, Vec3)> = prepared.iter().copied().zip(along_x).collect();
+    merge_lights_axis(f, &taps, period, 1)
+}
+
+/// [`merge_lights`] as [`crate::Lights`] runs it (shaders/merge_taps_packed.wgsl): from the
+/// packed shading `packed` (the GPU's [`crate::Lights::raw`]), the pass along x writing
+/// packed texels (each pixel's geometry and its merged irradiance) for the pass along y.
+pub fn merge_lights_packed(f: &FrameUniforms, packed: &[[u32; 4]], period: u32) -> Vec<Vec3> {
+    let taps: Vec<(Vec4, Vec3)> = packed.iter().map(|t| unpack_lit(*t)).collect();
+    let along_x = merge_lights_axis(f, &taps, period, 0);
+    let taps: Vec<(Vec4, Vec3)> = taps
+        .iter()
+        .zip(along_x)
+        .map(|(&(g, _), e)| unpack_lit(pack_lit(g, e)))
+        .collect();
+    merge_lights_axis(f, &taps, period, 1)
+}
+
+/// The packed texel of many-light shading (shaders/lit_packed.wgsl, `pack_lit`): linear
+/// depth's bits, the normal's (v + 1) / 2 rounded to `LIT_NORMAL_MAX` (3 × 10 bits; 0 on
+/// sky), the largest irradiance component m's bits, and r / m, g / m, b / m rounded to
+/// `LIT_RATIO_MAX` (11, 11, 10 bits).
+pub fn pack_lit(g: Vec4, e: Vec3) -> [u32; 4] {
+    use crate::shader::{LIT_NORMAL_MAX, LIT_RATIO_MAX};
+    let u = (Vec3::new(g.y, g.z, g.w) * 0.5 + 0.5).clamp(Vec3::ZERO, Vec3::ONE);
+    let n = (u * LIT_NORMAL_MAX + 0.5).to_array().map(|v| v as u32);
+    let normal = if g.x > 0.0 {
+        n[0] | n[1] << 10 | n[2] << 20
+    } else {
+        0
+    };
+    let m = e.x.max(e.y).max(e.z);
+    let r = if m > 0.0 { e / m } else { Vec3::ZERO };
+    let q = (r * Vec3::from(LIT_RATIO_MAX) + 0.5)
+        .to_array()
+        .map(|v| v as u32);
+    [
+        g.x.to_bits(),
+        normal,
+        m.to_bits(),
+        q[0] | q[1] << 11 | q[2] << 22,
+    ]
+}
+
+/// The geometry `vec4(linear depth, view normal)` and irradiance of a packed texel
+/// (shaders/lit_packed.wgsl, `unpack_geometry`, `unpack_irradiance`).
+pub fn unpack_lit(t: [u32; 4]) -> (Vec4, Vec3) {
+    use crate::shader::{LIT_NORMAL_MAX, LIT_RATIO_MAX};
+    let n = Vec3::new(
+        (t[1] & 0x3ff) as f32,
+        ((t[1] >> 10) & 0x3ff) as f32,
+        (t[1] >> 20) as f32,
+    ) * (2.0 / LIT_NORMAL_MAX)
+        - 1.0;
+    let q = Vec3::new(
+        (t[3] & 0x7ff) as f32,
+        ((t[3] >> 11) & 0x7ff) as f32,
+        (t[3] >> 22) as f32,
+    );
+    (
+        Vec4::new(f32::from_bits(t[0]), n.x, n.y, n.z),
+        f32::from_bits(t[2]) * (q / Vec3::from(LIT_RATIO_MAX)),
+    )
 }
 
 /// Environment irradiance / π at view-space `n`; mirrors `env_irradiance` in
@@ -1625,10 +1688,10 @@ pub fn ssdo_combine(
         .collect()
 }
 
+/// One axis of the merge over `taps`: each pixel's geometry and irradiance.
 fn merge_lights_axis(
     f: &FrameUniforms,
-    prepared: &[Vec4],
-    lit: &[Vec3],
+    taps: &[(Vec4, Vec3)],
     period: u32,
     axis: usize,
 ) -> Vec<Vec3> {
@@ -1637,20 +1700,20 @@ fn merge_lights_axis(
     let n = period as i32;
     let at = |q: [i32; 2]| (q[1] * w + q[0]) as usize;
     let extent = [w, h][axis];
-    let mut out = Vec::with_capacity(lit.len());
+    let mut out = Vec::with_capacity(taps.len());
     for y in 0..h {
         for x in 0..w {
             let p = [x, y];
-            let c = prepared[at(p)];
+            let (c, own) = taps[at(p)];
             if c.x.is_nan() || c.x <= 0.0 {
-                out.push(lit[at(p)]);
+                out.push(own);
                 continue;
             }
             let pos = f.view_position(centre(p), c.x);
             let normal = Vec3::new(c.y, c.z, c.w);
             let tol = f.plane_tolerance(c.x);
             // The pixel's own class is the pixel alone, and always counts.
-            let (mut sum, mut classes) = (lit[at(p)], 1.0f32);
+            let (mut sum, mut classes) = (own, 1.0f32);
             for k in 0..n {
                 let first = -(p[axis] - k).rem_euclid(n);
                 if first == 0 {
@@ -1664,13 +1727,13 @@ fn merge_lights_axis(
                     }
                     let mut q = p;
                     q[axis] += d;
-                    let s = prepared[at(q)];
+                    let (s, e) = taps[at(q)];
                     if s.x.is_nan() || s.x <= 0.0 {
                         continue;
                     }
                     let wgt = linear * merge_weight(f, pos, normal, tol, q, s);
                     total += wgt;
-                    acc += wgt * lit[at(q)];
+                    acc += wgt * e;
                 }
                 if total >= LIGHTS_CLASS_MIN_WEIGHT {
                     sum += acc / total;

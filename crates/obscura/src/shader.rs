@@ -107,6 +107,15 @@ pub const HISTORY_NORMAL_COS: f32 = 0.9;
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Many-light shading ([`crate::lights`]): `vec4(irradiance rgb, 1)`.
 pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Many-light shading on its way to the merge (shaders/lit_packed.wgsl): linear depth,
+/// the normal in 3 × 10 bits, and irradiance as its largest component and three ratios to it.
+pub const LIT_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// The packed normal's components are stored as `(n + 1) / 2 ×` this, rounded: 10 bits each
+/// (shaders/lit_packed.wgsl), within 1/1023 of the normal; the merge's weights need no more.
+pub const LIT_NORMAL_MAX: f32 = 1023.0;
+/// The packed irradiance's ratios to its largest component are rounded to `ratio ×` these:
+/// 11, 11 and 10 bits (shaders/lit_packed.wgsl).
+pub const LIT_RATIO_MAX: [f32; 3] = [2047.0, 2047.0, 1023.0];
 /// Bent normals ([`crate::AoOptions::bent_normals`]): `vec4(n, 0)`, n unit, view space.
 pub const BENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
@@ -155,6 +164,17 @@ pub enum PyramidSource {
 /// Pyramid levels one pass of [`Pass::PyramidLevels`] writes: WebGPU's default limit of
 /// storage textures per shader stage.
 pub const PYRAMID_LEVELS_PER_PASS: u32 = 4;
+
+/// Where the many-light merge ([`Pass::LightsMerge`]) reads its taps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MergeSource {
+    /// The prepared source (one texture, or the AO's N×N layers) and a [`LIT_FORMAT`]
+    /// texture: the SSDO bounce.
+    Prepared { layers: bool },
+    /// One [`LIT_PACKED_FORMAT`] texture, geometry and irradiance in one texel:
+    /// [`crate::Lights`].
+    Packed,
+}
 
 /// Where the prepare pass writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -246,10 +266,15 @@ pub enum Pass {
     /// Many-light diffuse shading of the prepared buffer: every light, or with an override
     /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]);
     /// `layers`: the prepared buffer as the AO's N×N layers (fused deinterleaved modes).
-    LightsShade { layers: bool },
+    /// `packed`: writes [`LIT_PACKED_FORMAT`] for the merge, else [`LIT_FORMAT`].
+    LightsShade { layers: bool, packed: bool },
     /// The geometry-aware merge of interleaved many-light shading over one period (also
-    /// merges the SSDO bounce).
-    LightsMerge { layers: bool },
+    /// merges the SSDO bounce), along the override `AXIS`; `packed_out`: writes
+    /// [`LIT_PACKED_FORMAT`] (for the second axis), else [`LIT_FORMAT`].
+    LightsMerge {
+        source: MergeSource,
+        packed_out: bool,
+    },
     /// One diffuse bounce of screen-space directional occlusion ([`crate::ssdo`]).
     SsdoBounce { layers: bool },
     /// SSDO's combine: albedo · (AO · environment at the bent normal + bounce).
@@ -337,8 +362,22 @@ impl Pass {
         }
         for layers in [false, true] {
             v.extend([
-                Pass::LightsShade { layers },
-                Pass::LightsMerge { layers },
+                Pass::LightsShade {
+                    layers,
+                    packed: false,
+                },
+                Pass::LightsShade {
+                    layers,
+                    packed: true,
+                },
+                Pass::LightsMerge {
+                    source: MergeSource::Prepared { layers },
+                    packed_out: false,
+                },
+                Pass::LightsMerge {
+                    source: MergeSource::Packed,
+                    packed_out: layers,
+                },
                 Pass::SsdoBounce { layers },
                 Pass::SsdoCombine { layers },
             ]);
@@ -419,12 +458,22 @@ impl Pass {
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
-            Pass::LightsShade { layers } => {
-                ["lights_shade", "lights_shade_from_layers"][layers as usize]
-            }
-            Pass::LightsMerge { layers } => {
-                ["lights_merge", "lights_merge_from_layers"][layers as usize]
-            }
+            Pass::LightsShade { layers, packed } => [
+                "lights_shade",
+                "lights_shade_from_layers",
+                "lights_shade_packed",
+                "lights_shade_packed_from_layers",
+            ][layers as usize + 2 * packed as usize],
+            Pass::LightsMerge { source, packed_out } => match (source, packed_out) {
+                (MergeSource::Prepared { layers: false }, false) => "lights_merge",
+                (MergeSource::Prepared { layers: true }, false) => "lights_merge_from_layers",
+                (MergeSource::Prepared { layers: false }, true) => "lights_merge_to_packed",
+                (MergeSource::Prepared { layers: true }, true) => {
+                    "lights_merge_from_layers_to_packed"
+                }
+                (MergeSource::Packed, false) => "lights_merge_packed",
+                (MergeSource::Packed, true) => "lights_merge_packed_to_packed",
+            },
             Pass::SsdoBounce { layers } => {
                 ["ssdo_bounce", "ssdo_bounce_from_layers"][layers as usize]
             }
@@ -609,15 +658,27 @@ impl Pass {
             }
             Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("../shaders/resolve_depth.wgsl")],
-            Pass::LightsShade { layers } => vec![
-                prepared_source(layers),
-                include_str!("../shaders/lights_shade.wgsl"),
-            ],
-            Pass::LightsMerge { layers } => vec![
-                prepared_source(layers),
-                include_str!("../shaders/merge.wgsl"),
-                include_str!("../shaders/lights_merge.wgsl"),
-            ],
+            Pass::LightsShade { layers, packed } => [
+                &[prepared_source(layers)][..],
+                &lit_out(false, packed)[..],
+                &[include_str!("../shaders/lights_shade.wgsl")][..],
+            ]
+            .concat(),
+            Pass::LightsMerge { source, packed_out } => {
+                let mut v = match source {
+                    MergeSource::Prepared { layers } => vec![
+                        prepared_source(layers),
+                        include_str!("../shaders/merge_taps_plain.wgsl"),
+                    ],
+                    MergeSource::Packed => vec![include_str!("../shaders/merge_taps_packed.wgsl")],
+                };
+                v.extend(lit_out(source == MergeSource::Packed, packed_out));
+                v.extend([
+                    include_str!("../shaders/merge.wgsl"),
+                    include_str!("../shaders/lights_merge.wgsl"),
+                ]);
+                v
+            }
             Pass::SsdoBounce { layers } => vec![
                 prepared_source(layers),
                 include_str!("../shaders/gtao_arcs.wgsl"),
@@ -763,6 +824,21 @@ fn bent_constant(e: Estimator, bent: bool) -> Vec<(&'static str, f64)> {
     }
 }
 
+/// The many-light passes' output fragment, packed or plain irradiance, after the packing
+/// functions where the pass reads (`packed_in`) or writes packed texels.
+fn lit_out(packed_in: bool, packed: bool) -> Vec<&'static str> {
+    let mut v = Vec::new();
+    if packed_in || packed {
+        v.push(include_str!("../shaders/lit_packed.wgsl"));
+    }
+    v.push(if packed {
+        include_str!("../shaders/lit_out_packed.wgsl")
+    } else {
+        include_str!("../shaders/lit_out_plain.wgsl")
+    });
+    v
+}
+
 /// The AO pass's bent-normal fragment: stored, or the empty interface.
 fn ao_bent(bent: bool) -> &'static str {
     if bent {
@@ -818,11 +894,14 @@ pub fn prelude() -> String {
          const NOISE_OFFSET_SIGMAS: f32 = {NOISE_OFFSET_SIGMAS:?};\n\
          const LIGHTS_CLASS_MIN_WEIGHT: f32 = {LIGHTS_CLASS_MIN_WEIGHT:?};\n\
          const LIGHTS_MAX: u32 = {LIGHTS_MAX}u;\n\
+         const LIT_RATIO_MAX: vec3<f32> = vec3<f32>({});\n\
+         const LIT_NORMAL_MAX: f32 = {LIT_NORMAL_MAX:?};\n\
          const SSDO_SELF_TOLERANCE: f32 = {SSDO_SELF_TOLERANCE:?};\n\
          const SH9_SCALE: array<f32, 5> = array<f32, 5>({});\n\
          {}{}{}{}",
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),
+        wgsl_floats(&LIT_RATIO_MAX),
         wgsl_floats(&SH9_SCALE),
         FrameUniforms::wgsl(),
         GpuLight::wgsl(),

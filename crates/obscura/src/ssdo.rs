@@ -29,7 +29,7 @@
 use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
 use crate::environment::IrradianceSh;
 use crate::lights::Prepared;
-use crate::shader::{dispatch_size, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
+use crate::shader::{dispatch_size, MergeSource, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -285,7 +285,14 @@ impl Ssdo {
             [0.0, 1.0].map(|axis| {
                 let mut c = constants.clone();
                 c.push(("AXIS", axis));
-                compile_with(device, Pass::LightsMerge { layers }, &c)
+                compile_with(
+                    device,
+                    Pass::LightsMerge {
+                        source: MergeSource::Prepared { layers },
+                        packed_out: false,
+                    },
+                    &c,
+                )
             })
         });
         let split_only: Vec<_> = constants
@@ -460,8 +467,8 @@ impl Ssdo {
             (Some([x, y]), Some([mx, my])) => {
                 let (mx, my) = (view(mx), view(my));
                 let groups = [
-                    group(x, &[(1, &prepared), (2, &bounce_view), (3, &mx)], false),
-                    group(y, &[(1, &prepared), (2, &mx), (3, &my)], false),
+                    group(x, &[(1, &prepared), (2, &bounce_view), (4, &mx)], false),
+                    group(y, &[(1, &prepared), (2, &mx), (4, &my)], false),
                 ];
                 (Some(groups), my)
             }

@@ -109,11 +109,31 @@ fn run(
     options: LightsOptions,
     lights: &[PointLight],
 ) -> (Vec<Vec3>, Vec<Vec3>) {
+    let (out, raw, _) = run_packed(f, prepared, options, lights);
+    (out, raw)
+}
+
+/// The output and the raw shading of one frame, and where the passes merge the raw
+/// shading's packed texels (its rgb then decoded from them).
+fn run_packed(
+    f: &FrameUniforms,
+    prepared: &wgpu::Texture,
+    options: LightsOptions,
+    lights: &[PointLight],
+) -> (Vec<Vec3>, Vec<Vec3>, Option<Vec<[u32; 4]>>) {
     let c = ctx();
     let mut l = Lights::new(&c.device, options).unwrap();
     c.run(|enc| l.record(&c.device, &c.queue, enc, prepared, f, lights))
         .unwrap();
-    (read_rgb(l.output().unwrap()), read_rgb(l.raw().unwrap()))
+    let out = read_rgb(l.output().unwrap());
+    let raw = l.raw().unwrap();
+    if raw.format() == obscura::shader::LIT_PACKED_FORMAT {
+        let packed: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&c.read_texture(raw).unwrap());
+        let rgb = packed.iter().map(|t| reference::unpack_lit(*t).1).collect();
+        (out, rgb, Some(packed))
+    } else {
+        (out, read_rgb(raw), None)
+    }
 }
 
 /// The rgb of an `Rgba32Float` texture.
@@ -209,16 +229,23 @@ fn shading_and_merge_match_cpu_reference_for_every_period() {
             layered,
             merge: true,
         };
-        let (out, raw) = run(&f, &tex, options, &ls);
+        let (out, raw, packed) = run_packed(&f, &tex, options, &ls);
         let want_raw = reference::shade_lights(&f, &p, &ls, period);
-        let e = relative_max(&raw, &want_raw);
-        assert!(
-            e < 1e-4,
-            "period {period}: shading differs by {e} of the mean"
-        );
-        if period > 1 {
+        match &packed {
+            None => {
+                let e = relative_max(&raw, &want_raw);
+                assert!(
+                    e < 1e-4,
+                    "period {period}: shading differs by {e} of the mean"
+                );
+            }
+            // Packed for the merge: each pixel's geometry and its shading within one
+            // step of the encoding (shaders/lit_packed.wgsl) beyond rounding.
+            Some(packed) => check_packed(packed, &p, &want_raw, period),
+        }
+        if let Some(packed) = &packed {
             // The merge of the GPU's own shading, so shading rounding does not enter.
-            let want = reference::merge_lights(&f, &p, &raw, period);
+            let want = reference::merge_lights_packed(&f, packed, period);
             let e = relative_max(&out, &want);
             assert!(
                 e < 1e-4,
@@ -227,6 +254,37 @@ fn shading_and_merge_match_cpu_reference_for_every_period() {
         } else {
             assert_eq!(out, raw, "period 1 has no merge");
         }
+    }
+}
+
+/// The packed shading against the prepared buffer and the CPU's shading: depth exact, the
+/// normal within half a step of its 10-bit components (and rounding), each irradiance
+/// component within half a step of its ratio to the largest (1/4094 or 1/2046 of it), plus
+/// the shading's own rounding (1e-4 of the mean, as unpacked).
+fn check_packed(packed: &[[u32; 4]], prepared: &[Vec4], want: &[Vec3], period: u32) {
+    let mean = want.iter().map(|v| v.length()).sum::<f32>() / want.len() as f32;
+    for (i, ((t, p), w)) in packed.iter().zip(prepared).zip(want).enumerate() {
+        let (g, e) = reference::unpack_lit(*t);
+        assert_eq!(
+            g.x.to_bits(),
+            p.x.to_bits(),
+            "period {period}, pixel {i}: depth"
+        );
+        if p.x > 0.0 {
+            let dn = (Vec3::new(g.y, g.z, g.w) - Vec3::new(p.y, p.z, p.w))
+                .abs()
+                .max_element();
+            assert!(
+                dn < 1.0 / 1023.0 + 1e-6,
+                "period {period}, pixel {i}: normal off by {dn}"
+            );
+        }
+        let step = w.max_element() * Vec3::new(0.5 / 2047.0, 0.5 / 2047.0, 0.5 / 1023.0);
+        let d = (e - *w).abs();
+        assert!(
+            d.cmple(step + 1e-4 * mean).all(),
+            "period {period}, pixel {i}: irradiance {e} against {w}"
+        );
     }
 }
 
