@@ -20,7 +20,7 @@
 //!
 //! Where a merge follows, the shading writes each pixel's depth, normal and irradiance
 //! in one packed texel (shaders/lit_packed.wgsl), so each of the merge's taps is one
-//! fetch instead of two: on lavapipe the merge cost about 30% less so (BENCHMARKS.md,
+//! fetch instead of two: on lavapipe the merge cost about a third less so (BENCHMARKS.md,
 //! "Many-light shading").
 //!
 //! `period` 1 shades every light at every pixel (the reference the interleaved result is

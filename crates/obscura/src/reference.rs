@@ -1506,8 +1506,9 @@ pub fn pack_lit(g: Vec4, e: Vec3) -> [u32; 4] {
     } else {
         0
     };
-    let m = e.x.max(e.y).max(e.z);
-    let r = if m > 0.0 { e / m } else { Vec3::ZERO };
+    let c = e.min(Vec3::splat(f32::MAX));
+    let m = c.x.max(c.y).max(c.z);
+    let r = if m > 0.0 { c / m } else { Vec3::ZERO };
     let q = (r * Vec3::from(LIT_RATIO_MAX) + 0.5)
         .to_array()
         .map(|v| v as u32);

@@ -375,6 +375,10 @@ impl Pass {
                     packed_out: false,
                 },
                 Pass::LightsMerge {
+                    source: MergeSource::Prepared { layers },
+                    packed_out: true,
+                },
+                Pass::LightsMerge {
                     source: MergeSource::Packed,
                     packed_out: layers,
                 },
