@@ -16,20 +16,26 @@
 // comes back exactly, since each class is interpolated at the centre rather than read
 // beside it. Taps past the image border are dropped (each class keeps one on the inner
 // side where the image spans at least a period). Sky pixels pass through.
-// Composed after a tap source (merge_taps_packed.wgsl: one packed texel, as Lights merges;
-// merge_taps_plain.wgsl: the prepared source and a lit texture, as the SSDO bounce is
-// merged), an output (lit_out_packed.wgsl between the axes, else lit_out_plain.wgsl) and
-// merge.wgsl. CPU mirror: src/reference.rs, `merge_lights`, `merge_lights_packed`.
+// Taps are packed texels (lit_packed.wgsl): geometry and irradiance in one fetch.
+// Composed after lit_packed.wgsl, an output (lit_out_packed.wgsl between the axes, else
+// lit_out_plain.wgsl) and merge.wgsl. CPU mirror: src/reference.rs, `merge_lights_packed`.
 
 override PERIOD: u32 = 2u;
 override AXIS: u32 = 0u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 
+@group(0) @binding(2) var lit_in: texture_2d<u32>;
+
 // What the merge reads of a pixel: vec4(linear depth, view normal) and irradiance.
 struct MergeTap {
     geometry: vec4<f32>,
     lit: vec3<f32>,
+}
+
+fn merge_tap(q: vec2<i32>) -> MergeTap {
+    let t = textureLoad(lit_in, q, 0);
+    return MergeTap(unpack_geometry(t), unpack_irradiance(t));
 }
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)

@@ -1,7 +1,7 @@
 // The geometric weight shared by the filters that merge samples spread over an N×N tile of
 // pixel classes (jitter patterns, deinterleaved layers, light subsets): the AO denoiser
 // (denoise.wgsl) and the merge of interleaved many-light shading (lights_merge.wgsl).
-// Composed after prepared_full.wgsl or prepared_layers.wgsl. A tap is weighted by
+// Composed after common.wgsl (view_position). A tap is weighted by
 //   plane:  exp(-(z / tolerance)^2), z the larger of the tap's distance from the centre's
 //           tangent plane and the centre's from the tap's (a crease fails one of the two);
 //   normal: max(n_tap . n, 0)^8 (halves at 25 degrees), as the bilateral upsampler.

@@ -1,6 +1,7 @@
 // One diffuse bounce of screen-space directional occlusion (Ritschel, Grosch & Seidel
 // 2009), on GTAO's slices (Jimenez et al. 2016; gtao_arcs.wgsl). Composed after a
-// prepared source, gtao_arcs.wgsl and ssdo_env.wgsl.
+// prepared source, gtao_arcs.wgsl, ssdo_env.wgsl and an output (lit_out_packed.wgsl when
+// the merge follows, else lit_out_plain.wgsl).
 //
 // Per slice and side the march finds the horizon as GTAO does (samples within the radius,
 // measured in the slice plane; samples on the receiver's own tangent plane, within
@@ -22,7 +23,6 @@ override DIRECTIONS: u32 = 2u;
 override STEPS: u32 = 4u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
-@group(0) @binding(4) var bounce_out: texture_storage_2d<rgba32float, write>;
 
 // The light a sender pixel reflects: its albedo times the environment's irradiance at its
 // normal.
@@ -39,7 +39,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let centre = prepared_at(p);
     let d = centre.x;
     if !(d > 0.0) {
-        textureStore(bounce_out, p, vec4<f32>(0.0));
+        store_lit(p, centre, vec3<f32>(0.0));
         return;
     }
     let normal = centre.yzw;
@@ -119,5 +119,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             bounce += (weight * covered1) * sender_radiance(hq1);
         }
     }
-    textureStore(bounce_out, p, vec4<f32>(bounce / weights, 1.0));
+    store_lit(p, centre, bounce / weights);
 }

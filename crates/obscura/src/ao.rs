@@ -21,10 +21,9 @@
 
 use crate::layout::layer_size;
 use crate::shader::{
-    dispatch_size, DepthBinding, MergeSource, Pass, PrepareStore, PyramidSource, AO_FORMAT,
-    BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT,
-    MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
-    RESOLVED_DEPTH_FORMAT,
+    dispatch_size, DepthBinding, Pass, PrepareStore, PyramidSource, AO_FORMAT, BENT_FORMAT,
+    HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT, MOMENTS_FORMAT,
+    PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS, RESOLVED_DEPTH_FORMAT,
 };
 use crate::uniforms::FrameUniforms;
 use crate::{
@@ -976,22 +975,15 @@ fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             uniform_entry(3),
             storage_entry(4, lit_format(packed), D2),
         ],
-        Pass::LightsMerge { source, packed_out } => {
-            let mut v = match source {
-                MergeSource::Prepared { layers } => vec![
-                    texture_entry(1, UNFILTERED, dim(layers)),
-                    texture_entry(2, UNFILTERED, D2),
-                ],
-                MergeSource::Packed => vec![texture_entry(2, wgpu::TextureSampleType::Uint, D2)],
-            };
-            v.push(storage_entry(4, lit_format(packed_out), D2));
-            v
-        }
-        Pass::SsdoBounce { layers } => vec![
+        Pass::LightsMerge { packed_out } => vec![
+            texture_entry(2, wgpu::TextureSampleType::Uint, D2),
+            storage_entry(4, lit_format(packed_out), D2),
+        ],
+        Pass::SsdoBounce { layers, packed } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),
             texture_entry(2, UNFILTERED, D2),
             uniform_entry(3),
-            storage_entry(4, LIT_FORMAT, D2),
+            storage_entry(4, lit_format(packed), D2),
         ],
         Pass::SsdoCombine { layers } => vec![
             texture_entry(1, UNFILTERED, dim(layers)),

@@ -30,9 +30,7 @@
 //! [`crate::reference::merge_lights_packed`] (and [`crate::reference::pack_lit`]).
 
 use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
-use crate::shader::{
-    dispatch_size, MergeSource, Pass, LIT_FORMAT, LIT_PACKED_FORMAT, PREPARED_FORMAT,
-};
+use crate::shader::{dispatch_size, Pass, LIT_FORMAT, LIT_PACKED_FORMAT, PREPARED_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -353,7 +351,6 @@ impl Lights {
             [0.0, 1.0].map(|axis| {
                 let c = [("PERIOD", options.period as f64), ("AXIS", axis)];
                 let pass = Pass::LightsMerge {
-                    source: MergeSource::Packed,
                     packed_out: axis == 0.0,
                 };
                 compile_with(device, pass, &c)

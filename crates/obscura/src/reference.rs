@@ -1479,9 +1479,10 @@ pub fn merge_lights(f: &FrameUniforms, prepared: &[Vec4], lit: &[Vec3], period: 
     merge_lights_axis(f, &taps, period, 1)
 }
 
-/// [`merge_lights`] as [`crate::Lights`] runs it (shaders/merge_taps_packed.wgsl): from the
-/// packed shading `packed` (the GPU's [`crate::Lights::raw`]), the pass along x writing
-/// packed texels (each pixel's geometry and its merged irradiance) for the pass along y.
+/// [`merge_lights`] as the GPU runs it (shaders/lights_merge.wgsl, shaders/lit_packed.wgsl):
+/// from the packed shading `packed` (the GPU's [`crate::Lights::raw`], or the SSDO bounce's
+/// [`crate::Ssdo::bounce_raw`]), the pass along x writing packed texels (each pixel's
+/// geometry and its merged irradiance) for the pass along y.
 pub fn merge_lights_packed(f: &FrameUniforms, packed: &[[u32; 4]], period: u32) -> Vec<Vec3> {
     let taps: Vec<(Vec4, Vec3)> = packed.iter().map(|t| unpack_lit(*t)).collect();
     let along_x = merge_lights_axis(f, &taps, period, 0);

@@ -165,17 +165,6 @@ pub enum PyramidSource {
 /// storage textures per shader stage.
 pub const PYRAMID_LEVELS_PER_PASS: u32 = 4;
 
-/// Where the many-light merge ([`Pass::LightsMerge`]) reads its taps.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MergeSource {
-    /// The prepared source (one texture, or the AO's N×N layers) and a [`LIT_FORMAT`]
-    /// texture: the SSDO bounce.
-    Prepared { layers: bool },
-    /// One [`LIT_PACKED_FORMAT`] texture, geometry and irradiance in one texel:
-    /// [`crate::Lights`].
-    Packed,
-}
-
 /// Where the prepare pass writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PrepareStore {
@@ -269,14 +258,12 @@ pub enum Pass {
     /// `packed`: writes [`LIT_PACKED_FORMAT`] for the merge, else [`LIT_FORMAT`].
     LightsShade { layers: bool, packed: bool },
     /// The geometry-aware merge of interleaved many-light shading over one period (also
-    /// merges the SSDO bounce), along the override `AXIS`; `packed_out`: writes
-    /// [`LIT_PACKED_FORMAT`] (for the second axis), else [`LIT_FORMAT`].
-    LightsMerge {
-        source: MergeSource,
-        packed_out: bool,
-    },
+    /// merges the SSDO bounce), along the override `AXIS`, from [`LIT_PACKED_FORMAT`];
+    /// `packed_out`: writes [`LIT_PACKED_FORMAT`] (for the second axis), else [`LIT_FORMAT`].
+    LightsMerge { packed_out: bool },
     /// One diffuse bounce of screen-space directional occlusion ([`crate::ssdo`]).
-    SsdoBounce { layers: bool },
+    /// `packed`: writes [`LIT_PACKED_FORMAT`] for the merge, else [`LIT_FORMAT`].
+    SsdoBounce { layers: bool, packed: bool },
     /// SSDO's combine: albedo · (AO · environment at the bent normal + bounce).
     SsdoCombine { layers: bool },
 }
@@ -370,19 +357,15 @@ impl Pass {
                     layers,
                     packed: true,
                 },
-                Pass::LightsMerge {
-                    source: MergeSource::Prepared { layers },
-                    packed_out: false,
+                Pass::LightsMerge { packed_out: layers },
+                Pass::SsdoBounce {
+                    layers,
+                    packed: false,
                 },
-                Pass::LightsMerge {
-                    source: MergeSource::Prepared { layers },
-                    packed_out: true,
+                Pass::SsdoBounce {
+                    layers,
+                    packed: true,
                 },
-                Pass::LightsMerge {
-                    source: MergeSource::Packed,
-                    packed_out: layers,
-                },
-                Pass::SsdoBounce { layers },
                 Pass::SsdoCombine { layers },
             ]);
         }
@@ -468,19 +451,15 @@ impl Pass {
                 "lights_shade_packed",
                 "lights_shade_packed_from_layers",
             ][layers as usize + 2 * packed as usize],
-            Pass::LightsMerge { source, packed_out } => match (source, packed_out) {
-                (MergeSource::Prepared { layers: false }, false) => "lights_merge",
-                (MergeSource::Prepared { layers: true }, false) => "lights_merge_from_layers",
-                (MergeSource::Prepared { layers: false }, true) => "lights_merge_to_packed",
-                (MergeSource::Prepared { layers: true }, true) => {
-                    "lights_merge_from_layers_to_packed"
-                }
-                (MergeSource::Packed, false) => "lights_merge_packed",
-                (MergeSource::Packed, true) => "lights_merge_packed_to_packed",
-            },
-            Pass::SsdoBounce { layers } => {
-                ["ssdo_bounce", "ssdo_bounce_from_layers"][layers as usize]
+            Pass::LightsMerge { packed_out } => {
+                ["lights_merge", "lights_merge_to_packed"][packed_out as usize]
             }
+            Pass::SsdoBounce { layers, packed } => [
+                "ssdo_bounce",
+                "ssdo_bounce_from_layers",
+                "ssdo_bounce_packed",
+                "ssdo_bounce_packed_from_layers",
+            ][layers as usize + 2 * packed as usize],
             Pass::SsdoCombine { layers } => {
                 ["ssdo_combine", "ssdo_combine_from_layers"][layers as usize]
             }
@@ -668,27 +647,24 @@ impl Pass {
                 &[include_str!("../shaders/lights_shade.wgsl")][..],
             ]
             .concat(),
-            Pass::LightsMerge { source, packed_out } => {
-                let mut v = match source {
-                    MergeSource::Prepared { layers } => vec![
-                        prepared_source(layers),
-                        include_str!("../shaders/merge_taps_plain.wgsl"),
-                    ],
-                    MergeSource::Packed => vec![include_str!("../shaders/merge_taps_packed.wgsl")],
-                };
-                v.extend(lit_out(source == MergeSource::Packed, packed_out));
-                v.extend([
+            Pass::LightsMerge { packed_out } => [
+                &lit_out(true, packed_out)[..],
+                &[
                     include_str!("../shaders/merge.wgsl"),
                     include_str!("../shaders/lights_merge.wgsl"),
-                ]);
-                v
-            }
-            Pass::SsdoBounce { layers } => vec![
-                prepared_source(layers),
-                include_str!("../shaders/gtao_arcs.wgsl"),
-                include_str!("../shaders/ssdo_env.wgsl"),
-                include_str!("../shaders/ssdo_bounce.wgsl"),
-            ],
+                ][..],
+            ]
+            .concat(),
+            Pass::SsdoBounce { layers, packed } => [
+                &[
+                    prepared_source(layers),
+                    include_str!("../shaders/gtao_arcs.wgsl"),
+                    include_str!("../shaders/ssdo_env.wgsl"),
+                ][..],
+                &lit_out(false, packed)[..],
+                &[include_str!("../shaders/ssdo_bounce.wgsl")][..],
+            ]
+            .concat(),
             Pass::SsdoCombine { layers } => vec![
                 prepared_source(layers),
                 include_str!("../shaders/ssdo_env.wgsl"),

@@ -29,7 +29,7 @@
 use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
 use crate::environment::IrradianceSh;
 use crate::lights::Prepared;
-use crate::shader::{dispatch_size, MergeSource, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
+use crate::shader::{dispatch_size, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -280,19 +280,21 @@ impl Ssdo {
             ("DIRECTIONS", options.directions as f64),
             ("STEPS", options.steps as f64),
         ]);
-        let bounce = compile_with(device, Pass::SsdoBounce { layers }, &bounce_constants);
-        let merge = options.merges().then(|| {
+        // Where the merge follows, the bounce is packed with its geometry (one fetch per
+        // tap, as crate::Lights merges).
+        let packed = options.merges();
+        let bounce = compile_with(
+            device,
+            Pass::SsdoBounce { layers, packed },
+            &bounce_constants,
+        );
+        let merge = packed.then(|| {
             [0.0, 1.0].map(|axis| {
-                let mut c = constants.clone();
-                c.push(("AXIS", axis));
-                compile_with(
-                    device,
-                    Pass::LightsMerge {
-                        source: MergeSource::Prepared { layers },
-                        packed_out: false,
-                    },
-                    &c,
-                )
+                let c = [("PERIOD", options.period as f64), ("AXIS", axis)];
+                let pass = Pass::LightsMerge {
+                    packed_out: axis == 0.0,
+                };
+                compile_with(device, pass, &c)
             })
         });
         let split_only: Vec<_> = constants
@@ -415,10 +417,24 @@ impl Ssdo {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
-        let bounce = make_texture(device, "obscura ssdo bounce", dims, 1, 1, LIT_FORMAT);
+        let raw_format = if pipelines.merge.is_some() {
+            LIT_PACKED_FORMAT
+        } else {
+            LIT_FORMAT
+        };
+        let bounce = make_texture(device, "obscura ssdo bounce", dims, 1, 1, raw_format);
         let merged = pipelines.merge.is_some().then(|| {
-            ["obscura ssdo bounce merged x", "obscura ssdo bounce merged"]
-                .map(|label| make_texture(device, label, dims, 1, 1, LIT_FORMAT))
+            [
+                make_texture(
+                    device,
+                    "obscura ssdo bounce merged x",
+                    dims,
+                    1,
+                    1,
+                    LIT_PACKED_FORMAT,
+                ),
+                make_texture(device, "obscura ssdo bounce merged", dims, 1, 1, LIT_FORMAT),
+            ]
         });
         let output = make_texture(device, "obscura ssdo", dims, 1, 1, LIT_FORMAT);
         let prepared = key.prepared.create_view(&wgpu::TextureViewDescriptor {
@@ -467,8 +483,8 @@ impl Ssdo {
             (Some([x, y]), Some([mx, my])) => {
                 let (mx, my) = (view(mx), view(my));
                 let groups = [
-                    group(x, &[(1, &prepared), (2, &bounce_view), (4, &mx)], false),
-                    group(y, &[(1, &prepared), (2, &mx), (4, &my)], false),
+                    group(x, &[(2, &bounce_view), (4, &mx)], false),
+                    group(y, &[(2, &mx), (4, &my)], false),
                 ];
                 (Some(groups), my)
             }
@@ -523,7 +539,9 @@ impl Ssdo {
             .map(|s| s.merged.as_ref().map_or(&s.bounce, |[_, m]| m))
     }
 
-    /// The raw interleaved bounce before the merge (`None` as for [`Ssdo::bounce`]).
+    /// The raw interleaved bounce before the merge (`None` as for [`Ssdo::bounce`]): where it
+    /// merges, packed with each pixel's geometry ([`crate::shader::LIT_PACKED_FORMAT`];
+    /// [`crate::reference::unpack_lit`] decodes it), else as [`Ssdo::bounce`].
     pub fn bounce_raw(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()

@@ -246,7 +246,7 @@ fn shading_and_merge_match_cpu_reference_for_every_period() {
         if let Some(packed) = &packed {
             // The merge of the GPU's own shading, so shading rounding does not enter.
             let want = reference::merge_lights_packed(&f, packed, period);
-            check_merge(&out, &want, period);
+            common::assert_packed_merge(&out, &want, &format!("period {period}"));
         } else {
             assert_eq!(out, raw, "period 1 has no merge");
         }
@@ -282,32 +282,6 @@ fn check_packed(packed: &[[u32; 4]], prepared: &[Vec4], want: &[Vec3], period: u
             "period {period}, pixel {i}: irradiance {e} against {w}"
         );
     }
-}
-
-/// The packed merge against its mirror. Both round the pass along x's result to the
-/// encoding's steps, so a rounding difference (~1e-7) can put one ratio a step apart (a
-/// tie, as a depth rule's picks in tests/gpu.rs): at most 0.5% of the pixels may differ by
-/// more than 1e-4 of the mean, and none by more than one step of the brightest pixel
-/// (its largest component / 1023) beyond that.
-fn check_merge(got: &[Vec3], want: &[Vec3], period: u32) {
-    let mean = want.iter().map(|v| v.length()).sum::<f32>() / want.len() as f32;
-    let step = want.iter().map(|v| v.max_element()).fold(0.0, f32::max) / 1023.0;
-    let errors: Vec<f32> = got
-        .iter()
-        .zip(want)
-        .map(|(g, w)| (*g - *w).length())
-        .collect();
-    let off = errors.iter().filter(|&&e| e > 1e-4 * mean).count();
-    assert!(
-        off * 200 <= got.len(),
-        "period {period}: {off} of {} pixels beyond 1e-4 of the mean",
-        got.len()
-    );
-    let worst = errors.iter().fold(0.0f32, |a, &e| a.max(e));
-    assert!(
-        worst <= 1e-4 * mean + step,
-        "period {period}: merge off by {worst} (mean {mean}, step {step})"
-    );
 }
 
 /// One light at height h over a plane facing the camera: E = cos θ (1 − (d/r)⁴)² / d²

@@ -113,6 +113,8 @@ struct Run {
     output: Vec<Vec3>,
     bounce: Vec<Vec3>,
     raw: Vec<Vec3>,
+    /// The raw bounce's packed texels, where it merges.
+    packed: Option<Vec<[u32; 4]>>,
 }
 
 /// One frame of `options` over the scene, with `ao` and `bent` as the AO's outputs.
@@ -145,7 +147,21 @@ fn run(
         output: read_rgb(s.output().unwrap()),
         // No bounce texture is offered without the bounce.
         bounce: s.bounce().map(read_rgb).unwrap_or_default(),
-        raw: s.bounce_raw().map(read_rgb).unwrap_or_default(),
+        raw: s.bounce_raw().map(read_lit).unwrap_or_default(),
+        packed: s
+            .bounce_raw()
+            .filter(|t| t.format() == obscura::shader::LIT_PACKED_FORMAT)
+            .map(|t| common::read_packed(c, t)),
+    }
+}
+
+/// The rgb of a lit texture, packed (decoded) or not.
+fn read_lit(t: &wgpu::Texture) -> Vec<Vec3> {
+    if t.format() == obscura::shader::LIT_PACKED_FORMAT {
+        let packed = common::read_packed(ctx(), t);
+        packed.iter().map(|p| reference::unpack_lit(*p).1).collect()
+    } else {
+        read_rgb(t)
     }
 }
 
@@ -216,20 +232,34 @@ fn passes_match_cpu_reference_for_every_period() {
         };
         let r = run(&f, &p, &albedo, &ao, Some(&bent), options, &light);
         let want_raw = reference::ssdo_bounce(&f, &p, &albedo, &light, &options);
-        let e = max_diff(&r.raw, &want_raw);
-        assert!(e < 1e-4, "period {period}: bounce differs by {e}");
+        // Packed for the merge (period > 1): within half a step of each component's ratio
+        // to the pixel's largest (1/4094 or 1/2046 of it) beyond rounding.
+        let quantised = r.packed.is_some();
+        for (i, (g, w)) in r.raw.iter().zip(&want_raw).enumerate() {
+            let step = if quantised {
+                w.max_element() * Vec3::new(0.5 / 2047.0, 0.5 / 2047.0, 0.5 / 1023.0)
+            } else {
+                Vec3::ZERO
+            };
+            assert!(
+                (*g - *w).abs().cmple(step + 1e-4).all(),
+                "period {period}, pixel {i}: bounce {g} against {w}"
+            );
+        }
         let lit = want_raw.iter().filter(|b| b.max_element() > 0.01).count();
         assert!(
             lit > 50,
             "period {period}: only {lit} pixels receive a bounce"
         );
-        let want_merged = if period > 1 {
-            reference::merge_lights(&f, &p, &r.raw, period)
-        } else {
-            r.raw.clone()
-        };
-        let e = max_diff(&r.bounce, &want_merged);
-        assert!(e < 1e-4, "period {period}: merge differs by {e}");
+        match &r.packed {
+            // The merge of the GPU's own bounce, so bounce rounding does not enter.
+            Some(packed) => common::assert_packed_merge(
+                &r.bounce,
+                &reference::merge_lights_packed(&f, packed, period),
+                &format!("period {period}"),
+            ),
+            None => assert_eq!(r.bounce, r.raw, "period {period}: no merge"),
+        }
         let want = reference::ssdo_combine(&p, &albedo, &ao, Some(&bent), Some(&r.bounce), &light);
         let e = max_diff(&r.output, &want);
         assert!(e < 1e-4, "period {period}: combine differs by {e}");
