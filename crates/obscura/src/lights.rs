@@ -276,6 +276,19 @@ pub struct Lights {
     created: u32,
 }
 
+/// The merge's two passes over `period` (along x, writing packed texels; along y, writing
+/// irradiance), from packed texels only: geometry and irradiance in one fetch. Shared by
+/// [`Lights`] and the SSDO bounce ([`crate::Ssdo`]).
+pub(crate) fn compile_merge(device: &wgpu::Device, period: u32) -> [Compiled; 2] {
+    [0.0, 1.0].map(|axis| {
+        let c = [("PERIOD", period as f64), ("AXIS", axis)];
+        let pass = Pass::LightsMerge {
+            packed_out: axis == 0.0,
+        };
+        compile_with(device, pass, &c)
+    })
+}
+
 impl Lights {
     /// Compiles the passes and makes the light buffer.
     pub fn new(device: &wgpu::Device, options: LightsOptions) -> Result<Self> {
@@ -346,16 +359,7 @@ impl Lights {
             Pass::LightsShade { layers, packed },
             &shade_constants,
         );
-        // The merge reads packed texels only: geometry and irradiance in one fetch.
-        let merge = packed.then(|| {
-            [0.0, 1.0].map(|axis| {
-                let c = [("PERIOD", options.period as f64), ("AXIS", axis)];
-                let pass = Pass::LightsMerge {
-                    packed_out: axis == 0.0,
-                };
-                compile_with(device, pass, &c)
-            })
-        });
+        let merge = packed.then(|| compile_merge(device, options.period));
         Pipelines {
             split,
             shade,

@@ -288,15 +288,7 @@ impl Ssdo {
             Pass::SsdoBounce { layers, packed },
             &bounce_constants,
         );
-        let merge = packed.then(|| {
-            [0.0, 1.0].map(|axis| {
-                let c = [("PERIOD", options.period as f64), ("AXIS", axis)];
-                let pass = Pass::LightsMerge {
-                    packed_out: axis == 0.0,
-                };
-                compile_with(device, pass, &c)
-            })
-        });
+        let merge = packed.then(|| crate::lights::compile_merge(device, options.period));
         let split_only: Vec<_> = constants
             .iter()
             .filter(|c| c.0 == "SPLIT")
