@@ -828,7 +828,7 @@ const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
 const D2_ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
 
 /// The many-light passes' output: packed for the merge, or irradiance.
-fn lit_format(packed: bool) -> wgpu::TextureFormat {
+pub(crate) fn lit_format(packed: bool) -> wgpu::TextureFormat {
     if packed {
         LIT_PACKED_FORMAT
     } else {

@@ -29,8 +29,8 @@
 //! made only on the first frame at a size or with a new prepared texture. CPU mirror: [`crate::reference::shade_lights`] and
 //! [`crate::reference::merge_lights_packed`] (and [`crate::reference::pack_lit`]).
 
-use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
-use crate::shader::{dispatch_size, Pass, LIT_FORMAT, LIT_PACKED_FORMAT, PREPARED_FORMAT};
+use crate::ao::{compile_with, lit_format, make_texture, Compiled, ErrorScope};
+use crate::shader::{dispatch_size, Pass, PREPARED_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -289,6 +289,31 @@ pub(crate) fn compile_merge(device: &wgpu::Device, period: u32) -> [Compiled; 2]
     })
 }
 
+/// The textures of interleaved shading and its merge at `dims`: the raw shading (packed
+/// where `merges`, else irradiance) and, where `merges`, the merge's output along x
+/// (packed) and along y (irradiance). Shared by [`Lights`] and the SSDO bounce.
+pub(crate) fn make_lit_textures(
+    device: &wgpu::Device,
+    label: &str,
+    dims: (u32, u32),
+    merges: bool,
+) -> (wgpu::Texture, Option<[wgpu::Texture; 2]>) {
+    let raw = make_texture(device, label, dims, 1, 1, lit_format(merges));
+    let merged = merges.then(|| {
+        [(" merged x", true), (" merged", false)].map(|(what, packed)| {
+            make_texture(
+                device,
+                &format!("{label}{what}"),
+                dims,
+                1,
+                1,
+                lit_format(packed),
+            )
+        })
+    });
+    (raw, merged)
+}
+
 impl Lights {
     /// Compiles the passes and makes the light buffer.
     pub fn new(device: &wgpu::Device, options: LightsOptions) -> Result<Self> {
@@ -471,25 +496,8 @@ impl Lights {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
-        let raw_format = if pipelines.merge.is_some() {
-            LIT_PACKED_FORMAT
-        } else {
-            LIT_FORMAT
-        };
-        let lit = make_texture(device, "obscura lit", dims, 1, 1, raw_format);
-        let merged = pipelines.merge.is_some().then(|| {
-            [
-                make_texture(
-                    device,
-                    "obscura lit merged x",
-                    dims,
-                    1,
-                    1,
-                    LIT_PACKED_FORMAT,
-                ),
-                make_texture(device, "obscura lit merged", dims, 1, 1, LIT_FORMAT),
-            ]
-        });
+        let (lit, merged) =
+            make_lit_textures(device, "obscura lit", dims, pipelines.merge.is_some());
         let prepared_view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(if split > 0 {
                 wgpu::TextureViewDimension::D2Array
@@ -559,7 +567,7 @@ impl Lights {
     }
 
     /// The result of the last frame: merged irradiance, or the raw shading when nothing
-    /// merges (`vec4(rgb, 1)`, [`LIT_FORMAT`]). `None` before the first frame.
+    /// merges (`vec4(rgb, 1)`, [`crate::shader::LIT_FORMAT`]). `None` before the first frame.
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()

@@ -29,7 +29,7 @@
 use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
 use crate::environment::IrradianceSh;
 use crate::lights::Prepared;
-use crate::shader::{dispatch_size, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT};
+use crate::shader::{dispatch_size, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
 use crate::uniforms::FrameUniforms;
 use crate::{Error, Result};
 
@@ -409,25 +409,12 @@ impl Ssdo {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
-        let raw_format = if pipelines.merge.is_some() {
-            LIT_PACKED_FORMAT
-        } else {
-            LIT_FORMAT
-        };
-        let bounce = make_texture(device, "obscura ssdo bounce", dims, 1, 1, raw_format);
-        let merged = pipelines.merge.is_some().then(|| {
-            [
-                make_texture(
-                    device,
-                    "obscura ssdo bounce merged x",
-                    dims,
-                    1,
-                    1,
-                    LIT_PACKED_FORMAT,
-                ),
-                make_texture(device, "obscura ssdo bounce merged", dims, 1, 1, LIT_FORMAT),
-            ]
-        });
+        let (bounce, merged) = crate::lights::make_lit_textures(
+            device,
+            "obscura ssdo bounce",
+            dims,
+            pipelines.merge.is_some(),
+        );
         let output = make_texture(device, "obscura ssdo", dims, 1, 1, LIT_FORMAT);
         let prepared = key.prepared.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(if key.split > 0 {
