@@ -1,12 +1,13 @@
 //! `render --orbit ... --budget-ms X`: the orbit of `render --orbit`, each frame at the
-//! working scale that `obscura::budget::ScaleController` chooses (`--budget-control scale`,
-//! the default) or at the level of a ladder of AO settings that
-//! `obscura::budget::BudgetController` chooses (`--budget-control ladder`) to hold the
-//! budget; prints each frame's time and scale or level, and writes `budget.csv` and
-//! `budget.svg` (time and knob per frame) beside the frames.
+//! working scale and sample count that `obscura::budget::JointController` chooses
+//! (`--budget-control joint`), at the working scale alone that
+//! `obscura::budget::ScaleController` chooses (`--budget-control scale`), or at the level
+//! of a ladder of AO settings that `obscura::budget::BudgetController` chooses
+//! (`--budget-control ladder`) to hold the budget; prints each frame's time and knob, and
+//! writes `budget.csv` and `budget.svg` (time and knob per frame) beside the frames.
 
 use anyhow::{Context, Result};
-use obscura::budget::{BudgetController, ScaleController};
+use obscura::budget::{BudgetController, JointController, Knob, ScaleController};
 use obscura::{
     Ao, AoOptions, AoParams, CameraMotion, Denoise, GpuContext, Preset, Resolution, Timing,
     Upsampler,
@@ -81,19 +82,7 @@ pub fn orbit(
     let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
     let mut levels = Vec::with_capacity(LADDER.len());
     for (resolution, preset) in LADDER {
-        let o = AoOptions {
-            resolution,
-            ..AoOptions::preset(base.estimator, preset)
-        };
-        let mut ao = Ao::new(
-            &ctx.device,
-            AoOptions {
-                resolution,
-                directions: o.directions,
-                steps: o.steps,
-                ..base
-            },
-        )?;
+        let mut ao = ao_at(ctx, base, resolution, preset)?;
         ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
         levels.push(ao);
     }
@@ -105,13 +94,7 @@ pub fn orbit(
             times.push(frame_ms(ctx, ao, &input, params, timing)?);
         }
     }
-    let nominal: Vec<f64> = runs
-        .into_iter()
-        .map(|mut t| {
-            t.sort_by(f64::total_cmp);
-            t[1]
-        })
-        .collect();
+    let nominal = medians(runs);
     let name = |k: usize| format!("{} {}", LADDER[k].0.name(), preset_name(LADDER[k].1));
     eprintln!(
         "budget: {budget_ms} ms per frame; levels (measured on the first view): {}",
@@ -124,9 +107,7 @@ pub fn orbit(
     // full-resolution passes set a floor, so half ultra costs more than full low
     // (BENCHMARKS.md, "On a hardware GPU"); on lavapipe timing noise can invert a close
     // pair. The controller steps over the levels cheaper than every level above them.
-    let kept: Vec<usize> = (0..nominal.len())
-        .filter(|&k| nominal[k + 1..].iter().all(|&c| nominal[k] < c))
-        .collect();
+    let kept = undominated(&nominal);
     if kept.len() < nominal.len() {
         eprintln!(
             "budget: skipping dominated levels (a better level costs no more): {}",
@@ -243,16 +224,7 @@ pub fn orbit_scaled(
     dir: &Path,
 ) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
-    let options = AoOptions {
-        resolution: Resolution::Scaled,
-        upsample: Upsampler::Bilateral,
-        denoise: match base.denoise {
-            Denoise::None => Denoise::None,
-            _ => Denoise::Spatial,
-        },
-        bent_normals: false,
-        ..base
-    };
+    let options = scaled_options(base);
     let mut ao = Ao::new(&ctx.device, options)?;
     // Compiled and its textures (those of scale 1 serve every scale) created before the
     // first timed frame: nothing is created during the orbit.
@@ -313,6 +285,280 @@ pub fn orbit_scaled(
         .map(|&s| (axis(s), format!("scale {s}")))
         .collect();
     write_outputs(dir, &csv, &plot(&times, &knob, &labels, "scale", budget_ms))
+}
+
+/// The full-resolution rungs of `--budget-control joint`, above the scaled AO at the
+/// preset given. Measured in one interleaved run over the nine shared views (GTAO, spatial
+/// denoiser, 640×400, lavapipe; docs/budget.md "Both knobs"): at equal time a
+/// full-resolution frame at the low preset is no better than the scaled high one in the
+/// 2×2 layout (0.0830 at 18.4 ms against 0.0915 at scale 0.5, 16.7 ms, and 0.0748 at 0.7,
+/// 21.9 ms) and worse in the randomized one (0.0790 at 24.4 ms against 0.0682 at 0.7, 24.2
+/// ms), while from the medium preset up full resolution wins (2×2 0.0704 at 20.6 ms,
+/// randomized 0.0623 at 26.0 ms). So the scale runs the preset given, and full resolution
+/// starts at medium.
+pub const JOINT_RUNGS: [Preset; 3] = [Preset::Medium, Preset::High, Preset::Ultra];
+
+/// Scales at which the scaled AO is timed on the first view, to fit `floor + c × s²`.
+const FIT_SCALES: [f32; 4] = [0.25, 0.5, 0.75, 1.0];
+
+/// Least-squares `(floor, c)` of `ms = floor + c × s²` over `(s, ms)` points; the floor at
+/// least 0 and c at least a microsecond, so the top scale is defined.
+fn fit_affine_in_area(points: &[(f32, f64)]) -> (f64, f64) {
+    let n = points.len() as f64;
+    let x: Vec<f64> = points.iter().map(|p| f64::from(p.0).powi(2)).collect();
+    let mx = x.iter().sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
+    let sxy: f64 = x
+        .iter()
+        .zip(points)
+        .map(|(v, p)| (v - mx) * (p.1 - my))
+        .sum();
+    let c = if sxx > 0.0 { sxy / sxx } else { 0.0 }.max(1e-3);
+    ((my - c * mx).max(0.0), c)
+}
+
+/// Runs the orbit under the budget with both knobs (`JointController`): one `Ao` at
+/// `Resolution::Scaled` at the preset given, below the scale where it costs what the
+/// cheapest full-resolution rung does, and full-resolution `Ao`s at the `JOINT_RUNGS`
+/// presets above it. `base` carries the estimator, preset, layout, denoiser and history.
+#[allow(clippy::too_many_arguments)]
+pub fn orbit_joint(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    raster: &GBufferRenderer,
+    mesh: &GpuMesh,
+    cam: &Camera,
+    base: AoOptions,
+    params: &AoParams,
+    (degrees, budget_ms): (f32, f64),
+    dir: &Path,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    let mut scaled = Ao::new(&ctx.device, scaled_options(base))?;
+    let mut rungs = Vec::with_capacity(JOINT_RUNGS.len());
+    for preset in JOINT_RUNGS {
+        rungs.push(ao_at(ctx, base, Resolution::Full, preset)?);
+    }
+    // Everything compiled and its textures created on the first view, then timed there
+    // (median of three interleaved runs): the rungs' costs and the scaled AO's cost over
+    // its scale. No GPU object is created during the orbit.
+    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
+    let at = |scale: f32| AoParams { scale, ..*params };
+    ctx.run(|enc| scaled.record(&ctx.device, &ctx.queue, enc, &input, &at(1.0)))?;
+    for ao in &mut rungs {
+        ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &at(1.0)))?;
+    }
+    let timing = Timing::best_for(ctx);
+    let mut runs = vec![Vec::new(); FIT_SCALES.len() + rungs.len()];
+    for _ in 0..3 {
+        for (i, &s) in FIT_SCALES.iter().enumerate() {
+            runs[i].push(frame_ms(ctx, &mut scaled, &input, &at(s), timing)?);
+        }
+        for (j, ao) in rungs.iter_mut().enumerate() {
+            runs[FIT_SCALES.len() + j].push(frame_ms(ctx, ao, &input, &at(1.0), timing)?);
+        }
+    }
+    let medians = medians(runs);
+    let (floor, c) = fit_affine_in_area(
+        &FIT_SCALES
+            .iter()
+            .zip(&medians)
+            .map(|(&s, &ms)| (s, ms))
+            .collect::<Vec<_>>(),
+    );
+    let nominal = &medians[FIT_SCALES.len()..];
+    let name = |k: usize| format!("full {}", preset_name(JOINT_RUNGS[k]));
+    // Rungs undercut by a dearer one are skipped, as in the ladder.
+    let kept = undominated(nominal);
+    let costs: Vec<f64> = kept.iter().map(|&k| nominal[k]).collect();
+    let min_area = f64::from(obscura::MIN_SCALE).powi(2);
+    let top_area = ((costs[0] - floor) / c).clamp(min_area, 1.0);
+    let top = top_area.sqrt() as f32;
+    let handover = costs[0] / (floor + c * top_area);
+    eprintln!(
+        "budget: {budget_ms} ms per frame; measured on the first view: scaled {} {}×{} \
+         {} + {} × scale² ms, {}; top scale {top:.3} (handover {handover:.2})",
+        base.estimator.name(),
+        base.directions,
+        base.steps,
+        fmt_ms(floor),
+        fmt_ms(c),
+        (0..nominal.len())
+            .map(|k| {
+                let skipped = if kept.contains(&k) {
+                    ""
+                } else {
+                    " (skipped: a dearer rung costs no more)"
+                };
+                format!("{} {} ms{skipped}", name(k), fmt_ms(nominal[k]))
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut control = JointController::new(budget_ms, START_SCALE.min(top), top, &costs, handover)
+        .with_context(|| {
+            format!("no controller for a {budget_ms} ms budget over the measured costs {costs:?}")
+        })?;
+    let n = a.frames;
+    let mut frames: Vec<(Knob, f64)> = Vec::with_capacity(n as usize);
+    // The previous frame's camera and which `Ao` ran it (None: the scaled one).
+    let mut previous: Option<(Camera, Option<usize>)> = None;
+    for k in 0..n {
+        let cam_k = cam.orbit(orbit_turn(degrees, k, n));
+        let g = raster.render(ctx, mesh, &cam_k, a.width, a.height)?;
+        let input = g.ao_input(&cam_k, a.normals == NormalSource::Gbuffer);
+        let knob = control.knob();
+        let (which, scale) = match knob {
+            Knob::Scale(s) => (None, s),
+            Knob::Level(l) => (Some(kept[l]), 1.0),
+        };
+        let ao = match which {
+            None => &mut scaled,
+            Some(r) => &mut rungs[r],
+        };
+        // The scaled history carries over a change of scale; an `Ao` that did not run the
+        // previous frame restarts its history.
+        let motion = match previous {
+            Some((prev, w)) if w == which => cam_k.motion_since(&prev),
+            Some(_) => {
+                ao.restart();
+                CameraMotion::Cut
+            }
+            None => CameraMotion::Cut,
+        };
+        let p = AoParams {
+            motion,
+            scale,
+            ..*params
+        };
+        let ms = frame_ms(ctx, ao, &input, &p, timing)?;
+        control.update(ms);
+        frames.push((knob, ms));
+        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
+        save_ao(
+            &dir.join(format!("frame_{k:04}.png")),
+            &values,
+            a.width,
+            a.height,
+            a.bits,
+        )?;
+        let label = match which {
+            None => format!("scale {scale:.3}"),
+            Some(r) => name(r),
+        };
+        eprintln!(
+            "frame {k:4}: {label:<12} {:>6} ms ({:+.0}% of the budget)",
+            fmt_ms(ms),
+            (ms / budget_ms - 1.0) * 100.0
+        );
+        previous = Some((cam_k, which));
+    }
+    let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
+    let on_rungs = frames
+        .iter()
+        .filter(|f| matches!(f.0, Knob::Level(_)))
+        .count();
+    eprintln!(
+        "budget: {}; {on_rungs} frames at full resolution",
+        summary(&times, budget_ms)
+    );
+    let mut csv = String::from("frame,resolution,scale,preset,ms\n");
+    let base_preset = |o: &AoOptions| {
+        Preset::ALL
+            .into_iter()
+            .find(|&p| {
+                let q = AoOptions::preset(o.estimator, p);
+                (q.directions, q.steps) == (o.directions, o.steps)
+            })
+            .map_or_else(
+                || format!("{}x{}", o.directions, o.steps),
+                |p| preset_name(p).into(),
+            )
+    };
+    for (k, (knob, ms)) in frames.iter().enumerate() {
+        let _ = match knob {
+            Knob::Scale(s) => writeln!(csv, "{k},scaled,{s:.4},{},{ms:.4}", base_preset(&base)),
+            Knob::Level(l) => writeln!(
+                csv,
+                "{k},full,1,{},{ms:.4}",
+                preset_name(JOINT_RUNGS[kept[*l]])
+            ),
+        };
+    }
+    // The right axis: the scale from 0.25 to the top over the lower half, the kept rungs
+    // evenly over the upper half.
+    let lo = f64::from(obscura::MIN_SCALE);
+    let scale_axis = |s: f64| {
+        if f64::from(top) > lo {
+            0.5 * (s - lo) / (f64::from(top) - lo)
+        } else {
+            0.25
+        }
+    };
+    let rung_axis = |l: usize| 0.5 + 0.5 * (l as f64 + 0.5) / kept.len() as f64;
+    let knob: Vec<f64> = frames
+        .iter()
+        .map(|f| match f.0 {
+            Knob::Scale(s) => scale_axis(f64::from(s)),
+            Knob::Level(l) => rung_axis(l),
+        })
+        .collect();
+    let mut labels: Vec<(f64, String)> = vec![
+        (scale_axis(lo), format!("scale {lo}")),
+        (scale_axis(f64::from(top)), format!("scale {top:.2}")),
+    ];
+    labels.extend((0..kept.len()).map(|l| (rung_axis(l), name(kept[l]))));
+    write_outputs(dir, &csv, &plot(&times, &knob, &labels, "knob", budget_ms))
+}
+
+/// An `Ao` with `base`'s settings at `resolution` and `preset`'s slices and steps.
+fn ao_at(ctx: &GpuContext, base: AoOptions, resolution: Resolution, preset: Preset) -> Result<Ao> {
+    let o = AoOptions::preset(base.estimator, preset);
+    Ok(Ao::new(
+        &ctx.device,
+        AoOptions {
+            resolution,
+            directions: o.directions,
+            steps: o.steps,
+            ..base
+        },
+    )?)
+}
+
+/// The median of each variant's three timed runs.
+fn medians(runs: Vec<Vec<f64>>) -> Vec<f64> {
+    runs.into_iter()
+        .map(|mut t| {
+            t.sort_by(f64::total_cmp);
+            t[t.len() / 2]
+        })
+        .collect()
+}
+
+/// The indices of the costs (cheapest level first) that every dearer level's cost exceeds:
+/// a level that a better one undercuts is dominated (on lavapipe timing noise can invert a
+/// close pair; on a GPU the full-resolution passes set a floor).
+fn undominated(costs: &[f64]) -> Vec<usize> {
+    (0..costs.len())
+        .filter(|&k| costs[k + 1..].iter().all(|&c| costs[k] < c))
+        .collect()
+}
+
+/// The options of the scaled `Ao` that the orbit's scale knobs turn: the bilateral
+/// upsampler (the only one at any scale), denoise none or spatial, no bent normals.
+fn scaled_options(base: AoOptions) -> AoOptions {
+    AoOptions {
+        resolution: Resolution::Scaled,
+        upsample: Upsampler::Bilateral,
+        denoise: match base.denoise {
+            Denoise::None => Denoise::None,
+            _ => Denoise::Spatial,
+        },
+        bent_normals: false,
+        ..base
+    }
 }
 
 /// Time per frame (line, left axis, with the budget and its ±15% band) and the knob per

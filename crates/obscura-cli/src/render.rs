@@ -383,11 +383,14 @@ pub struct RenderArgs {
     /// time and scale or level and writes budget.csv and budget.svg to --out-dir.
     #[arg(long, value_name = "MS", requires = "orbit")]
     pub budget_ms: Option<f64>,
-    /// What --budget-ms turns: `scale`, the continuous working scale in [0.25, 1]
-    /// (`obscura::budget::ScaleController`, the preset as given), or `ladder`, eleven
-    /// levels of resolution × preset, quarter low .. full ultra
+    /// What --budget-ms turns: `joint`, the working scale in [0.25, top] at the preset
+    /// given and above it full resolution at the medium, high and ultra presets
+    /// (`obscura::budget::JointController`; the top is where the scaled AO costs what full
+    /// medium does, measured on the first view); `scale`, the working scale alone in
+    /// [0.25, 1] (`obscura::budget::ScaleController`, the preset as given); or `ladder`,
+    /// eleven levels of resolution × preset, quarter low .. full ultra
     /// (`obscura::budget::BudgetController`).
-    #[arg(long, value_enum, default_value_t = BudgetControl::Scale, requires = "budget_ms")]
+    #[arg(long, value_enum, default_value_t = BudgetControl::Joint, requires = "budget_ms")]
     pub budget_control: BudgetControl,
     /// Also write screen-space directional occlusion with one diffuse bounce (obscura's
     /// `Ssdo`): the scene's albedo (glTF base colour factors, OBJ `Kd`) lit by --env
@@ -405,6 +408,7 @@ pub struct RenderArgs {
 /// The knob of `render --budget-ms`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BudgetControl {
+    Joint,
     Scale,
     Ladder,
 }
@@ -730,6 +734,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     }
     if let (Some(degrees), Some(dir), Some(budget)) = (a.orbit, &a.out_dir, a.budget_ms) {
         let run = match a.budget_control {
+            BudgetControl::Joint => crate::budget::orbit_joint,
             BudgetControl::Scale => crate::budget::orbit_scaled,
             BudgetControl::Ladder => crate::budget::orbit,
         };

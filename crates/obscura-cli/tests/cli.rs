@@ -226,10 +226,74 @@ fn render_orbit_holds_a_budget_by_level() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
-/// `render --orbit --budget-ms` with the continuous scale (the default knob): from half
-/// resolution's scale, a budget every scale meets takes it to 1 after one frame, one no
-/// scale can meet to the smallest, 0.25. `--resolution scaled --scale S` renders one frame
-/// at scale S; `--scale` with another resolution, or out of range, is refused.
+/// `render --orbit --budget-ms` with both knobs (the default, `--budget-control joint`):
+/// the scale up to the measured top, then full-resolution sample counts; budget.csv names
+/// each frame's resolution, scale and preset.
+#[test]
+fn render_orbit_holds_a_budget_by_scale_and_samples() {
+    // Each frame's (resolution, scale, preset) from budget.csv.
+    let knobs = |budget: &str| -> Vec<(String, f32, String)> {
+        let d = scratch(&format!("budget-joint-{budget}"));
+        let out = obscura(&[
+            "render",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--orbit",
+            "20",
+            "--frames",
+            "10",
+            "--out-dir",
+            s(&d),
+            "--budget-ms",
+            budget,
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains("top scale"), "the measured top scale: {err}");
+        assert!(d.join("frame_0009.png").exists() && d.join("budget.svg").exists());
+        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
+        let rows = csv
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let c: Vec<&str> = l.split(',').collect();
+                (c[1].to_string(), c[2].parse().unwrap(), c[3].to_string())
+            })
+            .collect();
+        std::fs::remove_dir_all(d).unwrap();
+        rows
+    };
+    // A budget nothing can miss: the scale climbs to its top (one frame), holds it for the
+    // three frames that hand over, then the ladder's cheapest rung settles for three frames
+    // and the controller goes to the top rung, full ultra. The joint controller is the
+    // default.
+    let generous = knobs("1000000");
+    let scaled = generous.iter().take_while(|k| k.0 == "scaled").count();
+    assert!((3..=4).contains(&scaled), "{generous:?}");
+    assert!(generous[scaled..]
+        .iter()
+        .all(|k| k.0 == "full" && k.1 == 1.0));
+    assert!(
+        generous[scaled + 3..].iter().all(|k| k.2 == "ultra"),
+        "{generous:?}"
+    );
+    assert!(generous[0].2 == "high" && generous[0].1 <= 0.5);
+    // One nothing can meet: the smallest scale from the second frame on, never full.
+    let impossible = knobs("0.001");
+    assert!(
+        impossible[1..]
+            .iter()
+            .all(|k| k.0 == "scaled" && k.1 == 0.25),
+        "{impossible:?}"
+    );
+}
+
+/// `render --orbit --budget-ms --budget-control scale` (the continuous scale alone): from
+/// half resolution's scale, a budget every scale meets takes it to 1 after one frame, one
+/// no scale can meet to the smallest, 0.25. `--resolution scaled --scale S` renders one
+/// frame at scale S; `--scale` with another resolution, or out of range, is refused.
 #[test]
 fn render_orbit_holds_a_budget_by_scale() {
     let scales = |budget: &str| -> Vec<f32> {
@@ -250,6 +314,8 @@ fn render_orbit_holds_a_budget_by_scale() {
             s(&d.join("ao.png")),
             "--budget-ms",
             budget,
+            "--budget-control",
+            "scale",
         ]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{err}");

@@ -32,6 +32,10 @@
 //! [`ScaleController`] holds a budget with one continuous knob instead, the working scale of
 //! [`crate::Resolution::Scaled`] (the design of issue 15, docs/budget.md): an integral
 //! controller on the log of the working area s², with a dead band for hysteresis.
+//!
+//! [`JointController`] turns both knobs, the working scale and the sample count: the scale
+//! up to a top scale, then a ladder of full-resolution sample counts above it, handing over
+//! between the two with the ladder's hysteresis.
 
 /// Smoothing of the scene complexity: weight of the newest frame.
 pub const SCENE_SMOOTHING: f64 = 0.3;
@@ -167,6 +171,14 @@ impl BudgetController {
             self.held = 0;
         }
     }
+
+    /// Starts again at the cheapest level with no scene estimate (the frames in between ran
+    /// something else); the learned level costs are kept.
+    fn enter_at_bottom(&mut self) {
+        self.level = 0;
+        self.held = 0;
+        self.scene = None;
+    }
 }
 
 /// The scale controller's gain: each frame moves ln s² by this fraction of ln(budget /
@@ -190,8 +202,11 @@ pub const SCALE_DEAD_BAND: f64 = 0.03;
 #[derive(Clone, Debug)]
 pub struct ScaleController {
     budget_ms: f64,
-    /// The working area s², in [MIN_SCALE², 1].
+    /// The working area s², in [MIN_SCALE², max_area].
     area: f64,
+    /// The largest working area the controller chooses (1 unless
+    /// [`Self::with_max_scale`] says otherwise).
+    max_area: f64,
 }
 
 impl ScaleController {
@@ -206,7 +221,30 @@ impl ScaleController {
         Some(Self {
             budget_ms,
             area: s * s,
+            max_area: 1.0,
         })
+    }
+
+    /// The same controller choosing scales up to `max` (clamped to [MIN_SCALE, 1]); the
+    /// current scale is clamped to it.
+    pub fn with_max_scale(mut self, max: f32) -> Self {
+        let m = f64::from(max.clamp(crate::MIN_SCALE, 1.0));
+        self.max_area = m * m;
+        self.area = self.area.min(self.max_area);
+        self
+    }
+
+    /// The largest scale the controller chooses.
+    pub fn max_scale(&self) -> f32 {
+        self.max_area.sqrt() as f32
+    }
+
+    /// Moves the scale to `s` (clamped to [MIN_SCALE, the maximum]); the next frames go on
+    /// from there.
+    pub fn set_scale(&mut self, s: f32) {
+        let min = f64::from(crate::MIN_SCALE).powi(2);
+        let s = f64::from(if s.is_finite() { s } else { crate::MIN_SCALE });
+        self.area = (s * s).clamp(min, self.max_area);
     }
 
     /// The scale to run this frame ([`crate::AoParams::scale`]).
@@ -226,10 +264,164 @@ impl ScaleController {
             let error = (self.budget_ms / measured_ms).ln();
             if error.abs() > SCALE_DEAD_BAND {
                 let min = f64::from(crate::MIN_SCALE).powi(2);
-                self.area = (self.area * (SCALE_GAIN * error).exp()).clamp(min, 1.0);
+                self.area = (self.area * (SCALE_GAIN * error).exp()).clamp(min, self.max_area);
             }
         }
         self.scale()
+    }
+}
+
+/// What [`JointController`] runs this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Knob {
+    /// The scaled AO ([`crate::Resolution::Scaled`]) at this working scale.
+    Scale(f32),
+    /// This level of the full-resolution ladder (0 = cheapest).
+    Level(usize),
+}
+
+/// Holds a frame-time budget with both knobs of issue 15: the working scale, then the
+/// sample count.
+///
+/// Below a top scale the frame runs one scaled AO whose scale a [`ScaleController`] turns
+/// (capped at the top); above it, a ladder of full-resolution levels (sample counts,
+/// cheapest first) that a [`BudgetController`] chooses among. The order is measured, not
+/// assumed: on lavapipe the scaled path costs three passes more than full resolution, and
+/// at equal time a full-resolution frame at 16 or more samples per pixel beats the scaled
+/// one above about scale 0.65–0.75, while below that the scale is the cheaper knob (the
+/// samples cost little next to the fixed passes; docs/budget.md, "Both knobs"). The caller
+/// places the top where the scaled AO costs what ladder level 0 does (`handover` = that
+/// level's cost over the scaled AO's at the top, nominally 1). The handover ratio is then
+/// learned at each climb: the mean of ladder level 0's first [`SETTLE_FRAMES`] frames over
+/// the mean of the frames at the top that led to it (the view changes little in a few
+/// frames), so a wrong nominal ratio costs one try, not a cycle.
+///
+/// Handing over, with the ladder's hysteresis:
+/// - **Up**: after [`SETTLE_FRAMES`] consecutive frames at the top scale each predicted to
+///   fit ladder level 0 with [`UP_MARGIN`] to spare (`time × handover`), the ladder starts
+///   at level 0 with its learned costs, and climbs as a [`BudgetController`] does.
+/// - **Down**: when the ladder sits on level 0 and its smoothed time is more than
+///   [`DOWN_TOLERANCE`] over the budget, the scale resumes at the top scale times the
+///   square root of budget / predicted time (the whole time taken as proportional to the
+///   working area, which over-corrects by the fixed passes' share, so the frame comes in
+///   under the budget and the integral climbs back).
+#[derive(Clone, Debug)]
+pub struct JointController {
+    scale: ScaleController,
+    ladder: BudgetController,
+    handover: f64,
+    on_ladder: bool,
+    /// Consecutive frames at the top scale predicted to fit ladder level 0, and their sum
+    /// of times.
+    fits: u32,
+    fits_ms: f64,
+    /// Since the last climb: the mean time of the frames at the top before it, and the
+    /// count and sum of ladder level 0's frames after it (while it is still learning).
+    climb: Option<(f64, u32, f64)>,
+}
+
+impl JointController {
+    /// A controller for `budget_ms` starting on the scale at `start` (clamped to the top),
+    /// with scales up to `top` and above them the ladder of `ladder_costs` (relative,
+    /// cheapest first, as [`BudgetController::new`]), `handover` being ladder level 0's cost
+    /// over the scaled AO's at `top`. `None` if the budget, a cost or `handover` is not a
+    /// positive finite number, `start` or `top` is not finite, or the ladder is empty.
+    pub fn new(
+        budget_ms: f64,
+        start: f32,
+        top: f32,
+        ladder_costs: &[f64],
+        handover: f64,
+    ) -> Option<Self> {
+        if !(handover.is_finite() && handover > 0.0 && top.is_finite()) {
+            return None;
+        }
+        Some(Self {
+            scale: ScaleController::new(budget_ms, start)?.with_max_scale(top),
+            ladder: BudgetController::new(budget_ms, ladder_costs)?,
+            handover,
+            on_ladder: false,
+            fits: 0,
+            fits_ms: 0.0,
+            climb: None,
+        })
+    }
+
+    /// What to run this frame.
+    pub fn knob(&self) -> Knob {
+        if self.on_ladder {
+            Knob::Level(self.ladder.level())
+        } else {
+            Knob::Scale(self.scale.scale())
+        }
+    }
+
+    /// The largest scale before the ladder.
+    pub fn top_scale(&self) -> f32 {
+        self.scale.max_scale()
+    }
+
+    /// Ladder level 0's cost over the scaled AO's at the top scale, as last learned.
+    pub fn handover(&self) -> f64 {
+        self.handover
+    }
+
+    /// Learns the handover ratio from the frames since the climb, once.
+    fn learn_handover(&mut self) {
+        if let Some((top_ms, n, sum)) = self.climb.take() {
+            if n > 0 {
+                self.handover = sum / f64::from(n) / top_ms;
+            }
+        }
+    }
+
+    /// Reports the measured time of the frame just run at [`Self::knob`] and returns the knob
+    /// for the next frame. Times that are not finite and positive are ignored.
+    pub fn update(&mut self, measured_ms: f64) -> Knob {
+        if !(measured_ms.is_finite() && measured_ms > 0.0) {
+            return self.knob();
+        }
+        let budget = self.scale.budget_ms();
+        if self.on_ladder {
+            let level = self.ladder.level();
+            if level == 0 {
+                if let Some((_, n, sum)) = &mut self.climb {
+                    *n += 1;
+                    *sum += measured_ms;
+                }
+            }
+            let next = self.ladder.update(measured_ms);
+            if level != 0 || next != 0 || self.climb.is_some_and(|c| c.1 >= SETTLE_FRAMES) {
+                self.learn_handover();
+            }
+            let smoothed = self.ladder.predicted_ms(0).unwrap_or(measured_ms);
+            if level == 0 && next == 0 && smoothed > budget * (1.0 + DOWN_TOLERANCE) {
+                self.learn_handover();
+                let at_top = smoothed / self.handover;
+                let s = f64::from(self.scale.max_scale()) * (budget / at_top).sqrt();
+                self.scale.set_scale(s as f32);
+                self.on_ladder = false;
+                self.fits = 0;
+                self.fits_ms = 0.0;
+            }
+        } else {
+            let at_top = self.scale.scale() >= self.scale.max_scale();
+            if at_top && measured_ms * self.handover <= budget * (1.0 - UP_MARGIN) {
+                self.fits += 1;
+                self.fits_ms += measured_ms;
+            } else {
+                self.fits = 0;
+                self.fits_ms = 0.0;
+            }
+            if self.fits >= SETTLE_FRAMES {
+                self.climb = Some((self.fits_ms / f64::from(self.fits), 0, 0.0));
+                self.ladder.enter_at_bottom();
+                self.on_ladder = true;
+            } else {
+                self.scale.update(measured_ms);
+            }
+        }
+        self.knob()
     }
 }
 
@@ -453,5 +645,145 @@ mod tests {
         let mut c = ScaleController::new(10.0, 0.5).unwrap();
         assert_eq!(c.update(f64::NAN), 0.5);
         assert_eq!(c.update(0.0), 0.5);
+    }
+
+    /// A fake clock for the joint controller: the scaled AO costs `floor + full × s²`, ladder
+    /// level k costs `ladder[k]`, all times the scene and a deterministic ±`noise` jitter.
+    fn run_joint(
+        c: &mut JointController,
+        (floor, full, ladder): (f64, f64, &[f64]),
+        frames: u32,
+        scene: impl Fn(u32) -> f64,
+        noise: f64,
+    ) -> Vec<(Knob, f64)> {
+        let mut jitter = jitter(noise);
+        (0..frames)
+            .map(|f| {
+                let k = c.knob();
+                let cost = match k {
+                    Knob::Scale(s) => floor + full * f64::from(s).powi(2),
+                    Knob::Level(l) => ladder[l],
+                };
+                let ms = cost * scene(f) * jitter();
+                c.update(ms);
+                (k, ms)
+            })
+            .collect()
+    }
+
+    /// The scaled AO: a 10 ms floor and 40 ms more at scale 1, so it costs ladder level 0's
+    /// 26 ms at s² = 0.4 (the top). The ladder: 26, 29, 45 ms.
+    const LADDER_MS: [f64; 3] = [26.0, 29.0, 45.0];
+    const JOINT: (f64, f64, &[f64]) = (10.0, 40.0, &LADDER_MS);
+
+    fn joint(budget: f64, handover: f64) -> JointController {
+        JointController::new(budget, 0.5, 0.4f32.sqrt(), &LADDER_MS, handover).unwrap()
+    }
+
+    fn ladder_changes(frames: &[(Knob, f64)]) -> usize {
+        let on = |k: &Knob| matches!(k, Knob::Level(_));
+        frames
+            .windows(2)
+            .filter(|w| on(&w[0].0) != on(&w[1].0))
+            .count()
+    }
+
+    #[test]
+    fn joint_turns_the_scale_below_the_top_and_climbs_the_ladder_above_it() {
+        // 20 ms: the scale settles at s² = 0.25 and never reaches the ladder.
+        let mut c = joint(20.0, 1.0);
+        let frames = run_joint(&mut c, JOINT, 100, |_| 1.0, 0.05);
+        assert!(
+            frames.iter().all(|f| matches!(f.0, Knob::Scale(_))),
+            "{frames:?}"
+        );
+        assert!(
+            frames[20..].iter().all(|f| (f.1 / 20.0 - 1.0).abs() <= 0.1),
+            "{frames:?}"
+        );
+        // 33 ms: up the scale to the top, onto the ladder, up to level 1 (29 ms), and no
+        // further (level 2 costs 45 ms); nothing over the budget by more than the noise.
+        let mut c = joint(33.0, 1.0);
+        let frames = run_joint(&mut c, JOINT, 100, |_| 1.0, 0.05);
+        assert!(
+            frames[20..].iter().all(|f| f.0 == Knob::Level(1)),
+            "{frames:?}"
+        );
+        assert!(frames.iter().all(|f| f.1 <= 33.0 * 1.05), "{frames:?}");
+        // 28 ms: the top (26 ms) fits but ladder level 0 is not predicted 10% under the
+        // budget, so the scale stays at the top: no switching back and forth.
+        let mut c = joint(28.0, 1.0);
+        let frames = run_joint(&mut c, JOINT, 200, |_| 1.0, 0.05);
+        assert_eq!(ladder_changes(&frames), 0, "{frames:?}");
+        assert!(frames[20..]
+            .iter()
+            .all(|f| f.0 == Knob::Scale(c.top_scale())));
+    }
+
+    #[test]
+    fn joint_leaves_the_ladder_for_the_scale_when_the_scene_gets_dearer_and_returns() {
+        // 30 ms: ladder level 0 (26 ms) at first; 1.8× dearer for frames 50..100 puts it at
+        // 47 ms, so the scale takes over and settles; then the ladder again.
+        let mut c = joint(30.0, 1.0);
+        let scene = |f: u32| if (50..100).contains(&f) { 1.8 } else { 1.0 };
+        let frames = run_joint(&mut c, JOINT, 160, scene, 0.05);
+        assert!(
+            frames[20..50].iter().all(|f| f.0 == Knob::Level(0)),
+            "{frames:?}"
+        );
+        assert!(
+            frames[52..100]
+                .iter()
+                .all(|f| matches!(f.0, Knob::Scale(_))),
+            "{:?}",
+            &frames[48..100]
+        );
+        assert!(
+            frames[65..100]
+                .iter()
+                .all(|f| (f.1 / 30.0 - 1.0).abs() <= 0.1),
+            "{:?}",
+            &frames[50..100]
+        );
+        assert!(
+            frames[115..].iter().all(|f| f.0 == Knob::Level(0)),
+            "{:?}",
+            &frames[100..]
+        );
+        assert_eq!(ladder_changes(&frames), 3, "{frames:?}");
+    }
+
+    #[test]
+    fn joint_learns_a_wrong_handover_in_one_try() {
+        // The caller says ladder level 0 costs what the top does; it costs 1.3× that (34 ms
+        // against a 30 ms budget). One frame on the ladder, then the learned ratio keeps the
+        // scale at the top for good.
+        let mut c = joint(30.0, 1.0);
+        let ladder = [26.0 * 1.3, 40.0, 60.0];
+        let frames = run_joint(&mut c, (10.0, 40.0, &ladder), 200, |_| 1.0, 0.05);
+        let on_ladder = frames
+            .iter()
+            .filter(|f| matches!(f.0, Knob::Level(_)))
+            .count();
+        assert_eq!(on_ladder, 1, "{frames:?}");
+        assert!((c.handover() / 1.3 - 1.0).abs() < 0.1, "{}", c.handover());
+        assert!(frames[30..]
+            .iter()
+            .all(|f| f.0 == Knob::Scale(c.top_scale())));
+    }
+
+    #[test]
+    fn joint_refuses_bad_inputs() {
+        assert!(JointController::new(0.0, 0.5, 0.7, &LADDER_MS, 1.0).is_none());
+        assert!(JointController::new(30.0, f32::NAN, 0.7, &LADDER_MS, 1.0).is_none());
+        assert!(JointController::new(30.0, 0.5, f32::NAN, &LADDER_MS, 1.0).is_none());
+        assert!(JointController::new(30.0, 0.5, 0.7, &[], 1.0).is_none());
+        assert!(JointController::new(30.0, 0.5, 0.7, &LADDER_MS, 0.0).is_none());
+        assert!(JointController::new(30.0, 0.5, 0.7, &LADDER_MS, f64::INFINITY).is_none());
+        // The start is clamped to the top; bad times leave the knob as it is.
+        let mut c = JointController::new(30.0, 1.0, 0.7, &LADDER_MS, 1.0).unwrap();
+        assert_eq!(c.knob(), Knob::Scale(0.7));
+        assert_eq!(c.update(f64::NAN), Knob::Scale(0.7));
+        assert_eq!(c.update(-3.0), Knob::Scale(0.7));
     }
 }
