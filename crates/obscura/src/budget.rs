@@ -292,9 +292,12 @@ pub enum Knob {
 /// samples cost little next to the fixed passes; docs/budget.md, "Both knobs"). The caller
 /// places the top where the scaled AO costs what ladder level 0 does (`handover` = that
 /// level's cost over the scaled AO's at the top, nominally 1). The handover ratio is then
-/// learned at each climb: the mean of ladder level 0's first [`SETTLE_FRAMES`] frames over
-/// the mean of the frames at the top that led to it (the view changes little in a few
-/// frames), so a wrong nominal ratio costs one try, not a cycle.
+/// learned at each climb: the mean of ladder level 0's frames until it settles
+/// ([`SETTLE_FRAMES`]) or is left, over the mean of the frames at the top that led to it
+/// (the view changes little in a few frames), so a wrong nominal ratio costs one try, not
+/// a cycle. (A rung left after one frame teaches the ratio from that frame alone; a frame
+/// slowed by the machine then holds the scale at the top until the view gets cheaper by
+/// as much.)
 ///
 /// Handing over, with the ladder's hysteresis:
 /// - **Up**: after [`SETTLE_FRAMES`] consecutive frames at the top scale each predicted to
@@ -303,8 +306,8 @@ pub enum Knob {
 /// - **Down**: when the ladder sits on level 0 and its smoothed time is more than
 ///   [`DOWN_TOLERANCE`] over the budget, the scale resumes at the top scale times the
 ///   square root of budget / predicted time (the whole time taken as proportional to the
-///   working area, which over-corrects by the fixed passes' share, so the frame comes in
-///   under the budget and the integral climbs back).
+///   working area: with fixed passes that under-corrects, by the floor times (1 − budget /
+///   time), and the scale's integral finishes the descent).
 #[derive(Clone, Debug)]
 pub struct JointController {
     scale: ScaleController,
@@ -431,7 +434,12 @@ mod tests {
 
     /// Deterministic factors in [1 − `noise`, 1 + `noise`] (a linear congruential sequence).
     fn jitter(noise: f64) -> impl FnMut() -> f64 {
-        let mut state = 12345u64;
+        jitter_from(noise, 12345)
+    }
+
+    /// `jitter` with the sequence started at `seed`.
+    fn jitter_from(noise: f64, seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
         move || {
             state = state
                 .wrapping_mul(6364136223846793005)
@@ -651,12 +659,24 @@ mod tests {
     /// level k costs `ladder[k]`, all times the scene and a deterministic ±`noise` jitter.
     fn run_joint(
         c: &mut JointController,
-        (floor, full, ladder): (f64, f64, &[f64]),
+        costs: (f64, f64, &[f64]),
         frames: u32,
         scene: impl Fn(u32) -> f64,
         noise: f64,
     ) -> Vec<(Knob, f64)> {
-        let mut jitter = jitter(noise);
+        run_joint_seeded(c, costs, frames, scene, noise, 12345)
+    }
+
+    /// `run_joint` with the jitter's sequence started at `seed`.
+    fn run_joint_seeded(
+        c: &mut JointController,
+        (floor, full, ladder): (f64, f64, &[f64]),
+        frames: u32,
+        scene: impl Fn(u32) -> f64,
+        noise: f64,
+        seed: u64,
+    ) -> Vec<(Knob, f64)> {
+        let mut jitter = jitter_from(noise, seed);
         (0..frames)
             .map(|f| {
                 let k = c.knob();
@@ -710,14 +730,19 @@ mod tests {
             "{frames:?}"
         );
         assert!(frames.iter().all(|f| f.1 <= 33.0 * 1.05), "{frames:?}");
-        // 28 ms: the top (26 ms) fits but ladder level 0 is not predicted 10% under the
-        // budget, so the scale stays at the top: no switching back and forth.
-        let mut c = joint(28.0, 1.0);
-        let frames = run_joint(&mut c, JOINT, 200, |_| 1.0, 0.05);
-        assert_eq!(ladder_changes(&frames), 0, "{frames:?}");
-        assert!(frames[20..]
-            .iter()
-            .all(|f| f.0 == Knob::Scale(c.top_scale())));
+        // 28 ms: the top and ladder level 0 both cost 26 ms, within the budget, but only 7%
+        // under it, short of the 10% a climb asks for: the controller holds the top, or
+        // (after three frames the noise puts 10% under) climbs once to level 0, which
+        // fits, and stays. No switching back and forth, nothing over the budget but noise.
+        for seed in [1, 2, 3, 12345] {
+            let mut c = joint(28.0, 1.0);
+            let frames = run_joint_seeded(&mut c, JOINT, 200, |_| 1.0, 0.05, seed);
+            assert!(ladder_changes(&frames) <= 1, "seed {seed}: {frames:?}");
+            assert!(frames[20..]
+                .iter()
+                .all(|f| f.0 == Knob::Scale(c.top_scale()) || f.0 == Knob::Level(0)));
+            assert!(frames[20..].iter().all(|f| f.1 <= 28.0 * 1.05));
+        }
     }
 
     #[test]
