@@ -12,7 +12,7 @@ use obscura::{
     Ao, AoOptions, AoParams, CameraMotion, Denoise, GpuContext, Preset, Resolution, Timing,
     Upsampler,
 };
-use obscura_scene::{Camera, GBufferRenderer, GpuMesh};
+use obscura_scene::{Camera, GBuffer, GBufferRenderer, GpuMesh};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -57,19 +57,8 @@ type Frame = (usize, f64);
 
 /// Runs the orbit under the budget; `base` carries the estimator, layout, denoiser and
 /// history (resolution and preset come from the ladder).
-#[allow(clippy::too_many_arguments)]
-pub fn orbit(
-    a: &RenderArgs,
-    ctx: &GpuContext,
-    raster: &GBufferRenderer,
-    mesh: &GpuMesh,
-    cam: &Camera,
-    base: AoOptions,
-    params: &AoParams,
-    (degrees, budget_ms): (f32, f64),
-    dir: &Path,
-) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+pub fn orbit(mut orbit: Orbit, base: AoOptions, params: &AoParams, budget_ms: f64) -> Result<()> {
+    let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
     // The ladder's resolutions are fixed: scale 1 whatever --scale says.
     let params = &AoParams {
         scale: 1.0,
@@ -78,7 +67,7 @@ pub fn orbit(
     // Every level is created and warmed up on the first view (shader compilation and its
     // textures), then timed there: those times are the controller's nominal costs, and no
     // GPU object is created during the orbit.
-    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let first = orbit.first_view()?;
     let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
     let mut levels = Vec::with_capacity(LADDER.len());
     for (resolution, preset) in LADDER {
@@ -88,7 +77,7 @@ pub fn orbit(
     }
     // Median of three runs per level, interleaved (CPU adapters' times vary by ±20%).
     let mut runs = vec![Vec::new(); levels.len()];
-    let timing = Timing::best_for(ctx);
+    let timing = orbit.timing;
     for _ in 0..3 {
         for (ao, times) in levels.iter_mut().zip(&mut runs) {
             times.push(frame_ms(ctx, ao, &input, params, timing)?);
@@ -124,36 +113,18 @@ pub fn orbit(
     })?;
     let n = a.frames;
     let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
-    let mut previous: Option<(Camera, usize)> = None;
     for k in 0..n {
-        let c = cam.orbit(orbit_turn(degrees, k, n));
-        let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
-        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
         let level = kept[control.level()];
-        let ao = &mut levels[level];
         // A level's history is from the last frame it ran, not the previous one: restart it.
-        let motion = match previous {
-            Some((prev, l)) if l == level => c.motion_since(&prev),
-            Some(_) => {
-                ao.restart();
-                CameraMotion::Cut
-            }
-            None => CameraMotion::Cut,
-        };
-        let p = AoParams { motion, ..*params };
-        let ms = frame_ms(ctx, ao, &input, &p, timing)?;
+        let ms = orbit.frame(k, &mut levels[level], level, 1.0, params)?;
         control.update(ms);
         frames.push((level, ms));
-        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
-        let path = dir.join(format!("frame_{k:04}.png"));
-        save_ao(&path, &values, a.width, a.height, a.bits)?;
         eprintln!(
             "frame {k:4}: level {level} ({}) {:>6} ms ({:+.0}% of the budget)",
             name(level),
             fmt_ms(ms),
             (ms / budget_ms - 1.0) * 100.0
         );
-        previous = Some((c, level));
     }
     eprintln!(
         "budget: {}, {} level changes",
@@ -176,6 +147,69 @@ pub fn orbit(
         .collect();
     let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
     write_outputs(dir, &csv, &plot(&times, &knob, &labels, "level", budget_ms))
+}
+
+/// A budgeted orbit's setting, and its frames: each renders its view's G-buffer, runs one
+/// of the run's `Ao`s on it (timed) and saves the AO as `frame_NNNN.png` in `dir` (which
+/// the caller has created).
+pub struct Orbit<'a> {
+    pub a: &'a RenderArgs,
+    pub ctx: &'a GpuContext,
+    pub raster: &'a GBufferRenderer,
+    pub mesh: &'a GpuMesh,
+    /// The first view; the orbit turns about its target.
+    pub cam: &'a Camera,
+    pub degrees: f32,
+    pub dir: &'a Path,
+    pub timing: Timing,
+    /// The previous frame's camera and the id of the `Ao` that ran it.
+    pub previous: Option<(Camera, usize)>,
+}
+
+impl Orbit<'_> {
+    /// The G-buffer of the first view.
+    fn first_view(&self) -> Result<GBuffer> {
+        let a = self.a;
+        Ok(self
+            .raster
+            .render(self.ctx, self.mesh, self.cam, a.width, a.height)?)
+    }
+
+    /// Frame `k`, run by `ao` (the caller's `id` for it) at working scale `scale`; returns
+    /// its time in ms. An `Ao` that did not run the previous frame restarts its history
+    /// (its history is from the last frame it ran).
+    fn frame(
+        &mut self,
+        k: u32,
+        ao: &mut Ao,
+        id: usize,
+        scale: f32,
+        params: &AoParams,
+    ) -> Result<f64> {
+        let (a, ctx) = (self.a, self.ctx);
+        let c = self.cam.orbit(orbit_turn(self.degrees, k, a.frames));
+        let g = self.raster.render(ctx, self.mesh, &c, a.width, a.height)?;
+        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
+        let motion = match &self.previous {
+            Some((prev, p)) if *p == id => c.motion_since(prev),
+            Some(_) => {
+                ao.restart();
+                CameraMotion::Cut
+            }
+            None => CameraMotion::Cut,
+        };
+        let p = AoParams {
+            motion,
+            scale,
+            ..*params
+        };
+        let ms = frame_ms(ctx, ao, &input, &p, self.timing)?;
+        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
+        let path = self.dir.join(format!("frame_{k:04}.png"));
+        save_ao(&path, &values, a.width, a.height, a.bits)?;
+        self.previous = Some((c, id));
+        Ok(ms)
+    }
 }
 
 /// `frames within ±15% of the budget; median`, for the last line of a run.
@@ -211,24 +245,18 @@ const START_SCALE: f32 = 0.5;
 /// Runs the orbit under the budget with one `Ao` at `Resolution::Scaled`, whose working
 /// scale `ScaleController` sets every frame; `base` carries the estimator, preset, layout,
 /// denoiser and history (the upsampler is the bilateral one, the only one at any scale).
-#[allow(clippy::too_many_arguments)]
 pub fn orbit_scaled(
-    a: &RenderArgs,
-    ctx: &GpuContext,
-    raster: &GBufferRenderer,
-    mesh: &GpuMesh,
-    cam: &Camera,
+    mut orbit: Orbit,
     base: AoOptions,
     params: &AoParams,
-    (degrees, budget_ms): (f32, f64),
-    dir: &Path,
+    budget_ms: f64,
 ) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
     let options = scaled_options(base);
     let mut ao = Ao::new(&ctx.device, options)?;
     // Compiled and its textures (those of scale 1 serve every scale) created before the
     // first timed frame: nothing is created during the orbit.
-    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let first = orbit.first_view()?;
     let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
     let mut control = ScaleController::new(budget_ms, START_SCALE)
@@ -241,35 +269,20 @@ pub fn orbit_scaled(
         options.steps,
         options.denoise.name()
     );
-    let timing = Timing::best_for(ctx);
     let n = a.frames;
     let mut frames: Vec<(f32, f64)> = Vec::with_capacity(n as usize);
-    let mut previous: Option<Camera> = None;
     for k in 0..n {
-        let c = cam.orbit(orbit_turn(degrees, k, n));
-        let g = raster.render(ctx, mesh, &c, a.width, a.height)?;
-        let input = g.ao_input(&c, a.normals == NormalSource::Gbuffer);
         let scale = control.scale();
         // The history is on the working grid; the temporal pass reprojects it into last
         // frame's grid, so it carries over a change of scale.
-        let motion = previous.map_or(CameraMotion::Cut, |p| c.motion_since(&p));
-        let p = AoParams {
-            motion,
-            scale,
-            ..*params
-        };
-        let ms = frame_ms(ctx, &mut ao, &input, &p, timing)?;
+        let ms = orbit.frame(k, &mut ao, 0, scale, params)?;
         control.update(ms);
         frames.push((scale, ms));
-        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
-        let path = dir.join(format!("frame_{k:04}.png"));
-        save_ao(&path, &values, a.width, a.height, a.bits)?;
         eprintln!(
             "frame {k:4}: scale {scale:.3} {:>6} ms ({:+.0}% of the budget)",
             fmt_ms(ms),
             (ms / budget_ms - 1.0) * 100.0
         );
-        previous = Some(c);
     }
     let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
     eprintln!("budget: {}", summary(&times, budget_ms));
@@ -322,19 +335,13 @@ fn fit_affine_in_area(points: &[(f32, f64)]) -> (f64, f64) {
 /// `Resolution::Scaled` at the preset given, below the scale where it costs what the
 /// cheapest full-resolution rung does, and full-resolution `Ao`s at the `JOINT_RUNGS`
 /// presets above it. `base` carries the estimator, preset, layout, denoiser and history.
-#[allow(clippy::too_many_arguments)]
 pub fn orbit_joint(
-    a: &RenderArgs,
-    ctx: &GpuContext,
-    raster: &GBufferRenderer,
-    mesh: &GpuMesh,
-    cam: &Camera,
+    mut orbit: Orbit,
     base: AoOptions,
     params: &AoParams,
-    (degrees, budget_ms): (f32, f64),
-    dir: &Path,
+    budget_ms: f64,
 ) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create `{}`", dir.display()))?;
+    let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
     let mut scaled = Ao::new(&ctx.device, scaled_options(base))?;
     let mut rungs = Vec::with_capacity(JOINT_RUNGS.len());
     for preset in JOINT_RUNGS {
@@ -343,14 +350,14 @@ pub fn orbit_joint(
     // Everything compiled and its textures created on the first view, then timed there
     // (median of three interleaved runs): the rungs' costs and the scaled AO's cost over
     // its scale. No GPU object is created during the orbit.
-    let first = raster.render(ctx, mesh, cam, a.width, a.height)?;
+    let first = orbit.first_view()?;
     let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
     let at = |scale: f32| AoParams { scale, ..*params };
     ctx.run(|enc| scaled.record(&ctx.device, &ctx.queue, enc, &input, &at(1.0)))?;
     for ao in &mut rungs {
         ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &at(1.0)))?;
     }
-    let timing = Timing::best_for(ctx);
+    let timing = orbit.timing;
     let mut runs = vec![Vec::new(); FIT_SCALES.len() + rungs.len()];
     for _ in 0..3 {
         for (i, &s) in FIT_SCALES.iter().enumerate() {
@@ -403,47 +410,21 @@ pub fn orbit_joint(
         })?;
     let n = a.frames;
     let mut frames: Vec<(Knob, f64)> = Vec::with_capacity(n as usize);
-    // The previous frame's camera and which `Ao` ran it (None: the scaled one).
-    let mut previous: Option<(Camera, Option<usize>)> = None;
     for k in 0..n {
-        let cam_k = cam.orbit(orbit_turn(degrees, k, n));
-        let g = raster.render(ctx, mesh, &cam_k, a.width, a.height)?;
-        let input = g.ao_input(&cam_k, a.normals == NormalSource::Gbuffer);
         let knob = control.knob();
         let (which, scale) = match knob {
             Knob::Scale(s) => (None, s),
             Knob::Level(l) => (Some(kept[l]), 1.0),
         };
-        let ao = match which {
-            None => &mut scaled,
-            Some(r) => &mut rungs[r],
-        };
         // The scaled history carries over a change of scale; an `Ao` that did not run the
-        // previous frame restarts its history.
-        let motion = match previous {
-            Some((prev, w)) if w == which => cam_k.motion_since(&prev),
-            Some(_) => {
-                ao.restart();
-                CameraMotion::Cut
-            }
-            None => CameraMotion::Cut,
+        // previous frame restarts its history. Ids: 0 the scaled `Ao`, 1 + r rung r.
+        let (ao, id) = match which {
+            None => (&mut scaled, 0),
+            Some(r) => (&mut rungs[r], 1 + r),
         };
-        let p = AoParams {
-            motion,
-            scale,
-            ..*params
-        };
-        let ms = frame_ms(ctx, ao, &input, &p, timing)?;
+        let ms = orbit.frame(k, ao, id, scale, params)?;
         control.update(ms);
         frames.push((knob, ms));
-        let values = ctx.read_f32(ao.output().context("AO output missing after a run")?)?;
-        save_ao(
-            &dir.join(format!("frame_{k:04}.png")),
-            &values,
-            a.width,
-            a.height,
-            a.bits,
-        )?;
         let label = match which {
             None => format!("scale {scale:.3}"),
             Some(r) => name(r),
@@ -453,7 +434,6 @@ pub fn orbit_joint(
             fmt_ms(ms),
             (ms / budget_ms - 1.0) * 100.0
         );
-        previous = Some((cam_k, which));
     }
     let times: Vec<f64> = frames.iter().map(|f| f.1).collect();
     let on_rungs = frames

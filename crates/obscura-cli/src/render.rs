@@ -738,17 +738,20 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             BudgetControl::Scale => crate::budget::orbit_scaled,
             BudgetControl::Ladder => crate::budget::orbit,
         };
-        return run(
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+        let orbit = crate::budget::Orbit {
             a,
-            &ctx,
-            &raster,
-            &gpu_mesh,
-            &cam,
-            options,
-            &params,
-            (degrees, budget),
+            ctx: &ctx,
+            raster: &raster,
+            mesh: &gpu_mesh,
+            cam: &cam,
+            degrees,
             dir,
-        );
+            timing: obscura::Timing::best_for(&ctx),
+            previous: None,
+        };
+        return run(orbit, options, &params, budget);
     }
     if let (Some(degrees), Some(dir)) = (a.orbit, &a.out_dir) {
         return orbit(
