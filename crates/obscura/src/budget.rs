@@ -622,6 +622,70 @@ mod tests {
         assert_eq!(off, 0, "{:?}", &frames[20..]);
     }
 
+    /// Two recorded sequences of lavapipe's frame-to-frame noise: each frame's time over
+    /// the median of the nine frames around it, at a pinned scale (1 and 1/4) on the Sponza
+    /// orbit of docs/budget.md (`render --orbit 180 --frames 100 --budget-control scale
+    /// --budget-ms 100000`, then `--budget-ms 1`; frames 2..100; llvmpipe, 2 cores,
+    /// 2026-11-25). Measured inputs to the fake clock, not outputs of the controller.
+    const LAVAPIPE_NOISE: [[f64; 98]; 2] = [
+        [
+            0.882, 1.210, 1.139, 0.995, 1.064, 0.939, 0.976, 0.999, 1.083, 1.250, 0.762, 0.744,
+            1.000, 1.000, 0.976, 1.000, 1.001, 1.089, 1.000, 0.964, 1.134, 1.126, 1.017, 1.033,
+            1.000, 0.989, 1.000, 0.983, 0.960, 1.000, 1.021, 1.005, 0.979, 1.438, 1.318, 0.951,
+            0.899, 0.929, 1.125, 1.108, 0.994, 1.004, 0.999, 0.987, 1.001, 1.354, 0.980, 1.000,
+            0.717, 1.079, 1.458, 1.444, 1.430, 0.984, 1.000, 0.982, 1.017, 0.995, 1.000, 1.033,
+            0.969, 0.989, 1.155, 1.002, 0.821, 1.071, 1.000, 1.216, 1.153, 1.136, 0.966, 0.801,
+            1.138, 0.961, 0.996, 1.055, 1.031, 0.875, 1.236, 1.000, 0.973, 0.983, 0.898, 1.032,
+            1.007, 1.001, 0.992, 1.044, 0.984, 0.999, 1.000, 1.000, 1.034, 0.904, 1.018, 1.217,
+            1.094, 1.073,
+        ],
+        [
+            1.036, 0.977, 0.974, 0.984, 1.007, 1.021, 1.026, 0.985, 0.994, 0.940, 1.086, 1.174,
+            1.000, 0.994, 1.086, 0.988, 0.982, 1.046, 0.984, 1.052, 1.082, 1.009, 1.007, 1.000,
+            0.992, 0.999, 1.001, 1.008, 0.994, 0.977, 0.989, 0.976, 1.073, 1.076, 1.007, 1.250,
+            0.993, 0.975, 0.974, 0.963, 1.008, 1.450, 1.127, 1.000, 0.956, 0.915, 1.000, 0.952,
+            1.594, 1.181, 1.024, 1.072, 0.656, 0.850, 1.084, 1.325, 1.028, 1.009, 0.975, 1.000,
+            0.996, 1.026, 0.992, 0.993, 1.097, 1.000, 0.965, 1.000, 1.000, 0.948, 1.000, 1.121,
+            1.000, 0.975, 0.989, 1.073, 0.976, 0.977, 1.013, 1.000, 0.969, 1.028, 0.999, 1.000,
+            0.984, 1.007, 1.209, 0.978, 0.977, 1.005, 0.990, 1.023, 1.000, 1.013, 0.999, 0.998,
+            1.018, 0.995,
+        ],
+    ];
+
+    #[test]
+    fn scale_holds_the_budget_as_well_as_lavapipe_noise_allows() {
+        // The Sponza orbit's cost (8 ms + 44 ms·s², fitted to its pinned scales: 10.4 ms at
+        // 1/4, 48–58 ms at 1), a view whose cost swings ±25% over the orbit, and the
+        // recorded noise. No controller can know a frame's noise before it runs, so the
+        // best possible is a perfect one that runs each frame's expected cost exactly on
+        // the budget: its frames are within 15% wherever the noise is. From frame 10 on,
+        // the controller must come within 8 frames of 88 of that (about 10%); it comes
+        // within 7 and 2 (docs/budget.md, "The noise floor, replayed"), and fails with a
+        // gain of 0.1 (too slow for the view) or 1.5 (chasing the noise).
+        for noise in &LAVAPIPE_NOISE {
+            let scene = |f: u32| 1.0 + 0.25 * (std::f64::consts::TAU * f64::from(f) / 98.0).sin();
+            let mut c = ScaleController::new(25.0, 0.5).unwrap();
+            let mut frame = 0;
+            let frames: Vec<(f32, f64)> = noise
+                .iter()
+                .map(|&n| {
+                    let s = c.scale();
+                    let ms = (8.0 + 44.0 * f64::from(s).powi(2)) * scene(frame) * n;
+                    c.update(ms);
+                    frame += 1;
+                    (s, ms)
+                })
+                .collect();
+            let within = |t: f64| (t / 25.0 - 1.0).abs() <= 0.15;
+            let held = frames[10..].iter().filter(|f| within(f.1)).count();
+            let best = noise[10..].iter().filter(|&&n| within(25.0 * n)).count();
+            assert!(
+                held + 8 >= best,
+                "{held} frames within 15%, a perfect controller {best}"
+            );
+        }
+    }
+
     #[test]
     fn scale_follows_the_scene_and_stops_at_its_limits() {
         // The scene gets 1.8× dearer for frames 50..100, then cheap again: the time is back
