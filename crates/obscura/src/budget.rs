@@ -623,46 +623,47 @@ mod tests {
     }
 
     /// Two recorded sequences of lavapipe's frame-to-frame noise: each frame's time over
-    /// the median of the nine frames around it, at a pinned scale (1 and 1/4) on the Sponza
-    /// orbit of docs/budget.md (`render --orbit 180 --frames 100 --budget-control scale
-    /// --budget-ms 100000`, then `--budget-ms 1`; frames 2..100; llvmpipe, 2 cores,
-    /// 2026-11-25). Measured inputs to the fake clock, not outputs of the controller.
+    /// the median of the nine frames around it, at a pinned scale on the Sponza orbit of
+    /// docs/budget.md (frames 2..100 of docs/budget/noise/scale1-round1.csv and
+    /// scale025-round2.csv; llvmpipe, 2 cores, 2026-11-25). Measured inputs to the fake
+    /// clock, not outputs of the controller.
     const LAVAPIPE_NOISE: [[f64; 98]; 2] = [
         [
-            0.882, 1.210, 1.139, 0.995, 1.064, 0.939, 0.976, 0.999, 1.083, 1.250, 0.762, 0.744,
-            1.000, 1.000, 0.976, 1.000, 1.001, 1.089, 1.000, 0.964, 1.134, 1.126, 1.017, 1.033,
-            1.000, 0.989, 1.000, 0.983, 0.960, 1.000, 1.021, 1.005, 0.979, 1.438, 1.318, 0.951,
-            0.899, 0.929, 1.125, 1.108, 0.994, 1.004, 0.999, 0.987, 1.001, 1.354, 0.980, 1.000,
-            0.717, 1.079, 1.458, 1.444, 1.430, 0.984, 1.000, 0.982, 1.017, 0.995, 1.000, 1.033,
-            0.969, 0.989, 1.155, 1.002, 0.821, 1.071, 1.000, 1.216, 1.153, 1.136, 0.966, 0.801,
-            1.138, 0.961, 0.996, 1.055, 1.031, 0.875, 1.236, 1.000, 0.973, 0.983, 0.898, 1.032,
-            1.007, 1.001, 0.992, 1.044, 0.984, 0.999, 1.000, 1.000, 1.034, 0.904, 1.018, 1.217,
-            1.094, 1.073,
+            0.8821, 1.2102, 1.1388, 0.9946, 1.0644, 0.9395, 0.9762, 0.9985, 1.0832, 1.2496, 0.7623,
+            0.7443, 1.0000, 1.0000, 0.9760, 1.0000, 1.0015, 1.0887, 1.0000, 0.9636, 1.1345, 1.1255,
+            1.0168, 1.0331, 1.0000, 0.9890, 1.0000, 0.9829, 0.9601, 1.0000, 1.0210, 1.0055, 0.9787,
+            1.4378, 1.3177, 0.9506, 0.8990, 0.9290, 1.1247, 1.1079, 0.9942, 1.0042, 0.9986, 0.9872,
+            1.0014, 1.3538, 0.9803, 1.0000, 0.7165, 1.0787, 1.4577, 1.4444, 1.4303, 0.9837, 1.0000,
+            0.9816, 1.0166, 0.9949, 1.0000, 1.0325, 0.9691, 0.9886, 1.1546, 1.0018, 0.8214, 1.0707,
+            1.0000, 1.2161, 1.1534, 1.1362, 0.9660, 0.8008, 1.1379, 0.9615, 0.9957, 1.0555, 1.0308,
+            0.8753, 1.2360, 1.0000, 0.9735, 0.9825, 0.8985, 1.0321, 1.0068, 1.0013, 0.9921, 1.0438,
+            0.9841, 0.9987, 1.0000, 1.0000, 1.0335, 0.9044, 1.0177, 1.2173, 1.0945, 1.0731,
         ],
         [
-            1.036, 0.977, 0.974, 0.984, 1.007, 1.021, 1.026, 0.985, 0.994, 0.940, 1.086, 1.174,
-            1.000, 0.994, 1.086, 0.988, 0.982, 1.046, 0.984, 1.052, 1.082, 1.009, 1.007, 1.000,
-            0.992, 0.999, 1.001, 1.008, 0.994, 0.977, 0.989, 0.976, 1.073, 1.076, 1.007, 1.250,
-            0.993, 0.975, 0.974, 0.963, 1.008, 1.450, 1.127, 1.000, 0.956, 0.915, 1.000, 0.952,
-            1.594, 1.181, 1.024, 1.072, 0.656, 0.850, 1.084, 1.325, 1.028, 1.009, 0.975, 1.000,
-            0.996, 1.026, 0.992, 0.993, 1.097, 1.000, 0.965, 1.000, 1.000, 0.948, 1.000, 1.121,
-            1.000, 0.975, 0.989, 1.073, 0.976, 0.977, 1.013, 1.000, 0.969, 1.028, 0.999, 1.000,
-            0.984, 1.007, 1.209, 0.978, 0.977, 1.005, 0.990, 1.023, 1.000, 1.013, 0.999, 0.998,
-            1.018, 0.995,
+            1.0359, 0.9768, 0.9739, 0.9845, 1.0065, 1.0213, 1.0262, 0.9849, 0.9935, 0.9400, 1.0860,
+            1.1741, 1.0000, 0.9937, 1.0863, 0.9882, 0.9822, 1.0461, 0.9845, 1.0525, 1.0822, 1.0087,
+            1.0070, 1.0000, 0.9920, 0.9993, 1.0007, 1.0080, 0.9939, 0.9774, 0.9890, 0.9765, 1.0733,
+            1.0762, 1.0071, 1.2497, 0.9930, 0.9746, 0.9741, 0.9628, 1.0083, 1.4499, 1.1269, 1.0000,
+            0.9556, 0.9148, 1.0000, 0.9519, 1.5938, 1.1807, 1.0239, 1.0724, 0.6560, 0.8504, 1.0843,
+            1.3253, 1.0279, 1.0088, 0.9747, 0.9998, 0.9956, 1.0261, 0.9923, 0.9935, 1.0966, 1.0000,
+            0.9651, 1.0000, 1.0000, 0.9483, 1.0000, 1.1212, 1.0000, 0.9745, 0.9892, 1.0731, 0.9755,
+            0.9766, 1.0131, 1.0001, 0.9689, 1.0280, 0.9987, 1.0000, 0.9837, 1.0065, 1.2087, 0.9780,
+            0.9773, 1.0047, 0.9900, 1.0229, 1.0000, 1.0134, 0.9992, 0.9982, 1.0185, 0.9945,
         ],
     ];
 
     #[test]
     fn scale_holds_the_budget_as_well_as_lavapipe_noise_allows() {
-        // The Sponza orbit's cost (8 ms + 44 ms·s², fitted to its pinned scales: 10.4 ms at
-        // 1/4, 48–58 ms at 1), a view whose cost swings ±25% over the orbit, and the
-        // recorded noise. No controller can know a frame's noise before it runs, so the
-        // best possible is a perfect one that runs each frame's expected cost exactly on
-        // the budget: its frames are within 15% wherever the noise is. From frame 10 on,
-        // the controller must come within 8 frames of 88 of that (about 10%); it comes
-        // within 7 and 2 (docs/budget.md, "The noise floor, replayed"), and fails with a
-        // gain of 0.1 (too slow for the view) or 1.5 (chasing the noise).
-        for noise in &LAVAPIPE_NOISE {
+        // The Sponza orbit's cost (about 8 ms + 44 ms·s² on the pinned runs), a view whose
+        // cost swings ±25% over the orbit, and the recorded noise. The reference is a
+        // controller with no tracking error, running each frame's expected cost exactly on
+        // the budget: its frames are within 15% wherever the noise is. (A reference, not a
+        // bound: the noise is taken about a centred median, and a controller aiming a little
+        // off the budget can beat it by a frame or two.) From frame 10 on, the controller
+        // must come within 8 of 88 frames of it; it is 7 and 3 short (docs/budget.md, "The
+        // noise floor, replayed"), and fails with a gain of 0.1 (too slow for the view) or
+        // 1.5 (chasing the noise).
+        for (i, noise) in LAVAPIPE_NOISE.iter().enumerate() {
             let scene = |f: u32| 1.0 + 0.25 * (std::f64::consts::TAU * f64::from(f) / 98.0).sin();
             let mut c = ScaleController::new(25.0, 0.5).unwrap();
             let mut frame = 0;
@@ -681,7 +682,7 @@ mod tests {
             let best = noise[10..].iter().filter(|&&n| within(25.0 * n)).count();
             assert!(
                 held + 8 >= best,
-                "{held} frames within 15%, a perfect controller {best}"
+                "sequence {i}: {held} frames within 15%, the reference {best}"
             );
         }
     }
