@@ -135,6 +135,54 @@ fn render_msaa_resolves_multisampled_depth() {
     );
 }
 
+/// Runs `render --orbit 20` of the built-in scene at 96×64 for `frames` frames under
+/// `--budget-ms budget` (and `control`, or the default controller), checks that it
+/// succeeded and wrote the last frame and the plot, and returns stderr and budget.csv's
+/// rows split at the commas (the header skipped).
+fn budget_orbit(
+    name: &str,
+    budget: &str,
+    frames: u32,
+    control: Option<&str>,
+) -> (String, Vec<Vec<String>>) {
+    let d = scratch(name);
+    let frames_arg = frames.to_string();
+    let out_png = d.join("ao.png");
+    let mut args = vec![
+        "render",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--orbit",
+        "20",
+        "--frames",
+        &frames_arg,
+        "--out-dir",
+        s(&d),
+        "--out",
+        s(&out_png),
+        "--budget-ms",
+        budget,
+    ];
+    if let Some(c) = control {
+        args.extend(["--budget-control", c]);
+    }
+    let out = obscura(&args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{err}");
+    let last = d.join(format!("frame_{:04}.png", frames - 1));
+    assert!(last.exists() && d.join("budget.svg").exists());
+    let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
+    let rows = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    std::fs::remove_dir_all(d).unwrap();
+    (err, rows)
+}
+
 /// `render --orbit --budget-ms`: with a budget no level can miss, the controller climbs to
 /// the top of the ladder once the first level has settled (3 frames); with one no level
 /// can meet, it never leaves the cheapest. Each frame is a row of budget.csv, the plot is
@@ -142,38 +190,9 @@ fn render_msaa_resolves_multisampled_depth() {
 #[test]
 fn render_orbit_holds_a_budget_by_level() {
     let levels = |budget: &str| -> Vec<String> {
-        let d = scratch(&format!("budget-{budget}"));
-        let out = obscura(&[
-            "render",
-            "--width",
-            "96",
-            "--height",
-            "64",
-            "--orbit",
-            "20",
-            "--frames",
-            "6",
-            "--out-dir",
-            s(&d),
-            "--out",
-            s(&d.join("ao.png")),
-            "--budget-ms",
-            budget,
-            "--budget-control",
-            "ladder",
-        ]);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{err}");
+        let (err, rows) = budget_orbit(&format!("budget-{budget}"), budget, 6, Some("ladder"));
         assert!(err.contains("frame    5: level"), "per-frame lines: {err}");
-        assert!(d.join("frame_0005.png").exists() && d.join("budget.svg").exists());
-        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
-        let rows: Vec<String> = csv
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').nth(2).unwrap().to_string() + " " + l.split(',').nth(3).unwrap())
-            .collect();
-        std::fs::remove_dir_all(d).unwrap();
-        rows
+        rows.iter().map(|c| c[2].clone() + " " + &c[3]).collect()
     };
     // The first level is the cheapest one kept: at this size the quarter and half levels
     // cost about the same, and a level that a better one undercuts is skipped.
@@ -233,37 +252,11 @@ fn render_orbit_holds_a_budget_by_level() {
 fn render_orbit_holds_a_budget_by_scale_and_samples() {
     // Each frame's (resolution, scale, preset) from budget.csv.
     let knobs = |budget: &str| -> Vec<(String, f32, String)> {
-        let d = scratch(&format!("budget-joint-{budget}"));
-        let out = obscura(&[
-            "render",
-            "--width",
-            "96",
-            "--height",
-            "64",
-            "--orbit",
-            "20",
-            "--frames",
-            "10",
-            "--out-dir",
-            s(&d),
-            "--budget-ms",
-            budget,
-        ]);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{err}");
+        let (err, rows) = budget_orbit(&format!("budget-joint-{budget}"), budget, 10, None);
         assert!(err.contains("top scale"), "the measured top scale: {err}");
-        assert!(d.join("frame_0009.png").exists() && d.join("budget.svg").exists());
-        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
-        let rows = csv
-            .lines()
-            .skip(1)
-            .map(|l| {
-                let c: Vec<&str> = l.split(',').collect();
-                (c[1].to_string(), c[2].parse().unwrap(), c[3].to_string())
-            })
-            .collect();
-        std::fs::remove_dir_all(d).unwrap();
-        rows
+        rows.iter()
+            .map(|c| (c[1].clone(), c[2].parse().unwrap(), c[3].clone()))
+            .collect()
     };
     // A budget nothing can miss: the scale climbs to its top (one frame), holds it for the
     // three frames that hand over, then the ladder's cheapest rung settles for three frames
@@ -297,38 +290,9 @@ fn render_orbit_holds_a_budget_by_scale_and_samples() {
 #[test]
 fn render_orbit_holds_a_budget_by_scale() {
     let scales = |budget: &str| -> Vec<f32> {
-        let d = scratch(&format!("budget-scale-{budget}"));
-        let out = obscura(&[
-            "render",
-            "--width",
-            "96",
-            "--height",
-            "64",
-            "--orbit",
-            "20",
-            "--frames",
-            "4",
-            "--out-dir",
-            s(&d),
-            "--out",
-            s(&d.join("ao.png")),
-            "--budget-ms",
-            budget,
-            "--budget-control",
-            "scale",
-        ]);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{err}");
+        let (err, rows) = budget_orbit(&format!("budget-scale-{budget}"), budget, 4, Some("scale"));
         assert!(err.contains("frame    3: scale"), "per-frame lines: {err}");
-        assert!(d.join("frame_0003.png").exists() && d.join("budget.svg").exists());
-        let csv = std::fs::read_to_string(d.join("budget.csv")).unwrap();
-        let rows = csv
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
-            .collect();
-        std::fs::remove_dir_all(d).unwrap();
-        rows
+        rows.iter().map(|c| c[1].parse().unwrap()).collect()
     };
     assert_eq!(scales("1000000"), [0.5, 1.0, 1.0, 1.0]);
     assert_eq!(scales("0.001"), [0.5, 0.25, 0.25, 0.25]);
