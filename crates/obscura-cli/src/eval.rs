@@ -151,12 +151,15 @@ pub struct EvalArgs {
     /// the surface normal's angle to it (what a renderer without bent normals uses).
     #[arg(long)]
     pub bent_normals: bool,
-    /// Temporal accumulation: every variant keeps a history (--history) and is scored
-    /// after this many frames of a still camera; also reported: the mean absolute
-    /// frame-to-frame change after them, and an orbit of as many frames (--orbit-step
-    /// degrees apart) ending at the view, scored by how long each pixel has been visible.
-    #[arg(long, default_value_t = 1)]
-    pub frames: u32,
+    /// Temporal accumulation (comma-separated counts, timed interleaved: `1,8` puts single
+    /// frames and 8 accumulated frames in one frontier): for each count N > 1 every variant
+    /// also runs with a history (--history) and is scored after N frames of a still camera;
+    /// also reported: the mean absolute frame-to-frame change after them, and an orbit of N
+    /// frames (--orbit-step degrees apart) ending at the view, scored by how long each
+    /// pixel has been visible. The frontier ranks an accumulated variant by the worse of its
+    /// still and orbit RMSE.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    pub frames: Vec<u32>,
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
     #[arg(long, default_value_t = 16)]
     pub history: u32,
@@ -165,6 +168,11 @@ pub struct EvalArgs {
     /// from it; the truth is the clean scene's.
     #[arg(long, value_enum, default_value_t = SensorArg::None)]
     pub sensor: SensorArg,
+    /// Scales the --sensor's random noise (0: its quantisation alone), not the model that
+    /// `--depth-noise known` gives: with 0 and `known`, what the noise treatment costs on
+    /// depth without noise.
+    #[arg(long, default_value_t = 1.0)]
+    pub sensor_noise: f32,
     /// The depth noise model obscura is given: `auto` estimates it from --sensor depth (as
     /// `render --depth` does by default) and gives none for rendered depth (as a renderer
     /// passing its own depth buffer does); `estimate` estimates it from either.
@@ -320,6 +328,8 @@ fn bent_error(
 /// How temporal accumulation behaves on one view (`eval --frames N`).
 #[derive(Clone, Copy, Debug)]
 struct TemporalFigures {
+    /// N: frames of the still camera and of the orbit.
+    frames: u32,
     /// Mean |AO(frame N+1) − AO(frame N)| of a still camera.
     flicker: f32,
     /// RMSE of the last frame of the orbit.
@@ -370,6 +380,7 @@ fn sensor_depth(
     g: &obscura_scene::GBuffer,
     input: &obscura::AoInput<'_>,
     s: sensor::Sensor,
+    noise_scale: f32,
 ) -> Result<SensorDepth> {
     let clean = linear_depth(ctx, g, input)?;
     let focal_px = match input.projection {
@@ -378,7 +389,7 @@ fn sensor_depth(
         }
         _ => bail!("--sensor needs a perspective view"),
     };
-    let (noisy, map) = sensor::simulate(&clean, focal_px, s, 0x5eed);
+    let (noisy, map) = sensor::simulate(&clean, focal_px, s, noise_scale, 0x5eed);
     eprintln!(
         "  {} depth: the view's depth range mapped onto {}..{} m",
         s.name(),
@@ -553,10 +564,20 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             bail!("--radius must be a finite number > 0 (got {r})");
         }
     }
-    if a.frames == 0 || a.frames > 1000 {
-        bail!("--frames must be in 1..=1000 (got {})", a.frames);
+    if !(0.0..=10.0).contains(&a.sensor_noise) {
+        bail!("--sensor-noise must be in 0..=10 (got {})", a.sensor_noise);
     }
-    if a.msaa && a.frames > 1 {
+    if a.sensor_noise != 1.0 && a.sensor == SensorArg::None {
+        bail!("--sensor-noise needs --sensor");
+    }
+    if let Some(f) = a.frames.iter().find(|f| !(1..=1000).contains(*f)) {
+        bail!("--frames must each be in 1..=1000 (got {f})");
+    }
+    if a.frames.is_empty() {
+        bail!("--frames needs at least one count");
+    }
+    let temporal_run = a.frames.iter().any(|&f| f > 1);
+    if a.msaa && temporal_run {
         bail!("--msaa evaluates single frames (the orbit rasterizes single-sampled depth)");
     }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
@@ -577,7 +598,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     }
     let jobs = jobs(a)?;
     if a.ssdo {
-        if a.frames > 1 || a.falloff != FalloffArg::None || a.truth != TruthArg::Centre {
+        if temporal_run || a.falloff != FalloffArg::None || a.truth != TruthArg::Centre {
             bail!("--ssdo evaluates single frames against centre-sampled truth without falloff");
         }
         if !(0.0..=1.0).contains(&a.albedo_scale) {
@@ -701,12 +722,30 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     if variants.is_empty() {
         bail!("no variant to evaluate");
     }
-    if a.frames > 1 {
-        for (label, o) in variants.iter_mut() {
-            o.history = a.history;
-            *label = format!("{label} ×{}", a.frames);
+    // Each frame count crossed with the variants above: N > 1 keeps a history and is
+    // labelled ×N. `frames_of[i]`: variant i's frame count.
+    let mut counts: Vec<u32> = Vec::new();
+    for &f in &a.frames {
+        if !counts.contains(&f) {
+            counts.push(f);
         }
     }
+    let single = std::mem::take(&mut variants);
+    let single_scales = std::mem::take(&mut scales);
+    let mut frames_of: Vec<u32> = Vec::new();
+    for &f in &counts {
+        for ((label, o), &scale) in single.iter().zip(&single_scales) {
+            let (mut label, mut o) = (label.clone(), *o);
+            if f > 1 {
+                o.history = a.history;
+                label = format!("{label} ×{f}");
+            }
+            variants.push((label, o));
+            scales.push(scale);
+            frames_of.push(f);
+        }
+    }
+    let orbit_frames = counts.iter().copied().max().unwrap_or(1);
     let mut aos: Vec<Ao> = variants
         .iter()
         .map(|(_, o)| Ao::new(&ctx.device, *o))
@@ -807,7 +846,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             SensorArg::Kinect => Some(sensor::Sensor::Kinect),
             SensorArg::Stereo => Some(sensor::Sensor::Stereo),
         }
-        .map(|s| sensor_depth(&ctx, &g, &input, s))
+        .map(|s| sensor_depth(&ctx, &g, &input, s, a.sensor_noise))
         .transpose()?;
         let mut params = AoParams {
             radius,
@@ -879,14 +918,17 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let mut temporal: Vec<Option<TemporalFigures>> = vec![None; aos.len()];
         let mut still_images: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
         let mut orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>> = vec![None; aos.len()];
-        if a.frames > 1 {
+        if orbit_frames > 1 {
             for (i, ao) in aos.iter_mut().enumerate() {
+                if frames_of[i] == 1 {
+                    continue;
+                }
                 ao.reset_history();
                 let p = AoParams {
                     scale: scales[i],
                     ..params
                 };
-                for _ in 0..a.frames {
+                for _ in 0..frames_of[i] {
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 }
                 let still = ctx.read_f32(ao.output().context("AO output missing")?)?;
@@ -894,28 +936,39 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 let next = ctx.read_f32(ao.output().context("AO output missing")?)?;
                 let flicker = metrics::mean_abs_diff(&still, &next, &mask);
                 temporal[i] = Some(TemporalFigures {
+                    frames: frames_of[i],
                     flicker,
                     orbit_rmse: 0.0,
                     disoccluded: None,
                 });
                 still_images[i] = Some(still);
             }
+            // One orbit of the longest count, rasterized once; a variant of N frames joins
+            // it N frames before its end, with a cut.
             let mut previous: Option<Camera> = None;
-            for k in 0..a.frames {
-                let c = cam.orbit(a.orbit_step * (k as f32 - (a.frames - 1) as f32));
+            for k in 0..orbit_frames {
+                let c = cam.orbit(a.orbit_step * (k as f32 - (orbit_frames - 1) as f32));
                 let gk = raster.render(&ctx, &gpu_mesh, &c, w, h)?;
                 let ik = gk.ao_input(&c, a.normals == NormalSource::Gbuffer);
-                let pk = AoParams {
-                    motion: previous.map_or(obscura::CameraMotion::Cut, |p| c.motion_since(&p)),
-                    ..params
-                };
-                for (ao, &scale) in aos.iter_mut().zip(&scales) {
-                    let p = AoParams { scale, ..pk };
+                for (i, ao) in aos.iter_mut().enumerate() {
+                    let first = orbit_frames - frames_of[i];
+                    if frames_of[i] == 1 || k < first {
+                        continue;
+                    }
+                    let motion = match previous {
+                        Some(p) if k > first => c.motion_since(&p),
+                        _ => obscura::CameraMotion::Cut,
+                    };
+                    let p = AoParams {
+                        scale: scales[i],
+                        motion,
+                        ..params
+                    };
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
                 }
                 previous = Some(c);
             }
-            for (i, ao) in aos.iter().enumerate() {
+            for (i, ao) in aos.iter().enumerate().filter(|(i, _)| frames_of[*i] > 1) {
                 let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
                 // The history's frame counts at full resolution (the working texel whose
                 // footprint holds the pixel). A scaled history is on the working grid of
@@ -1490,8 +1543,8 @@ fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
         return String::new();
     }
     let mut s = format!(
-        "\n### Temporal accumulation ({} frames, history {})\n\n*Flicker*: mean |AO(frame {}) − AO(frame {})| of the still camera. *Orbit*: {} frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's {}-frame image (ratio: the issue asks ≤ 1.5).\n\n| view | variant | RMSE ({} frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
-        a.frames, a.history, a.frames + 1, a.frames, a.frames, a.orbit_step, a.frames, a.frames
+        "\n### Temporal accumulation (history {})\n\n*×N*: scored after N frames of a still camera. *Flicker*: mean |AO(frame N+1) − AO(frame N)| of the still camera. *Orbit*: N frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's N-frame image (ratio: the issue asks ≤ 1.5).\n\n| view | variant | RMSE (still, N frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
+        a.history, a.orbit_step
     );
     for (r, f) in &t {
         let d = f
@@ -1520,13 +1573,18 @@ fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
             .fold((0.0, 0.0), |acc, (o, st, _)| {
                 (acc.0 + o * o, acc.1 + st * st)
             });
+        // An orbit shorter than 5 frames has no pixel with a 5-frame history.
+        let pooled = if st > 0.0 {
+            format!("{:.2} (pooled)", (o / st).sqrt())
+        } else {
+            "–".to_string()
+        };
         let _ = writeln!(
             s,
-            "| **mean** | {v} | {:.4} | {:.4} | {:.4} | | | | {:.2} (pooled) |",
+            "| **mean** | {v} | {:.4} | {:.4} | {:.4} | | | | {pooled} |",
             mean(&|x| x.0.rmse),
             mean(&|x| x.1.flicker),
             mean(&|x| x.1.orbit_rmse),
-            (o / st.max(1e-12)).sqrt()
         );
     }
     s
@@ -1545,7 +1603,7 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     for (i, r) in rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
+            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"frames\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
             r.view,
             r.variant,
             r.estimator,
@@ -1559,6 +1617,7 @@ fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.0)),
             r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.1)),
             r.ms.map_or("null".to_string(), |m| format!("{m:.4}")),
+            r.temporal.map_or(1, |t| t.frames),
             r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.flicker)),
             r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.orbit_rmse)),
             r.temporal
@@ -1585,8 +1644,18 @@ struct VariantMean {
     rmse: f64,
     bias: f64,
     ms: f64,
+    /// An accumulated variant's mean orbit RMSE (a moving camera's error).
+    moving: Option<f64>,
     /// The variant that beats it (`pareto`), or `None` on the frontier.
     beaten_by: Option<usize>,
+}
+
+impl VariantMean {
+    /// The error the frontier ranks by: the RMSE, or for an accumulated variant the worse
+    /// of the still camera's and the orbit's (a still camera alone flatters it).
+    fn error(&self) -> f64 {
+        self.moving.map_or(self.rmse, |m| m.max(self.rmse))
+    }
 }
 
 /// Every timed variant's mean RMSE, bias and time over the views, in evaluation order.
@@ -1604,10 +1673,17 @@ fn variant_means(rows: &[Row]) -> Vec<VariantMean> {
             rmse: mine.iter().map(|x| x.rmse as f64).sum::<f64>() / n,
             bias: mine.iter().map(|x| x.bias as f64).sum::<f64>() / n,
             ms: mine.iter().filter_map(|x| x.ms).sum::<f64>() / n,
+            moving: r.temporal.map(|_| {
+                mine.iter()
+                    .filter_map(|x| x.temporal)
+                    .map(|t| t.orbit_rmse as f64)
+                    .sum::<f64>()
+                    / n
+            }),
             beaten_by: None,
         });
     }
-    let beaten = pareto(&out.iter().map(|m| (m.ms, m.rmse)).collect::<Vec<_>>());
+    let beaten = pareto(&out.iter().map(|m| (m.ms, m.error())).collect::<Vec<_>>());
     for (m, b) in out.iter_mut().zip(beaten) {
         m.beaten_by = b;
     }
@@ -1647,16 +1723,27 @@ fn frontier_table(means: &[VariantMean]) -> String {
     }
     let mut order: Vec<usize> = (0..means.len()).collect();
     order.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
-    let mut s = String::from("\n### Quality-versus-time frontier\n\nMean over the views of RMSE against ray-traced AO and of the frame time, every variant by time. **frontier**: no other variant is at most as slow and more accurate; the others name the faster-or-equal variant that beats them. Pick the row that fits your budget.\n\n| variant | RMSE | bias | ms | |\n|---|---|---|---|---|\n");
+    let moving = means.iter().any(|m| m.moving.is_some());
+    let mut s = String::from("\n### Quality-versus-time frontier\n\nMean over the views of RMSE against ray-traced AO and of the frame time, every variant by time. **frontier**: no other variant is at most as slow and more accurate; the others name the faster-or-equal variant that beats them. Pick the row that fits your budget.");
+    if moving {
+        s.push_str(" *×N*: N accumulated frames (a history), timed per frame; *RMSE* is the still camera's after N frames, *moving* the last frame of an orbit of N frames (`--orbit-step`), and the frontier ranks these by the worse of the two.\n\n| variant | RMSE | moving | bias | ms | |\n|---|---|---|---|---|---|\n");
+    } else {
+        s.push_str("\n\n| variant | RMSE | bias | ms | |\n|---|---|---|---|---|\n");
+    }
     for i in order {
         let m = &means[i];
         let mark = match m.beaten_by {
             None => "**frontier**".to_string(),
             Some(j) => format!("beaten by {}", means[j].variant),
         };
+        let mov = match (moving, m.moving) {
+            (false, _) => String::new(),
+            (true, None) => " – |".to_string(),
+            (true, Some(o)) => format!(" {o:.4} |"),
+        };
         let _ = writeln!(
             s,
-            "| {} | {:.4} | {:+.4} | {} | {mark} |",
+            "| {} | {:.4} |{mov} {:+.4} | {} | {mark} |",
             m.variant,
             m.rmse,
             m.bias,
@@ -1672,7 +1759,7 @@ fn frontier_table(means: &[VariantMean]) -> String {
 fn frontier_plot(means: &[VariantMean]) -> String {
     let (w, h, m, right) = (640.0, 400.0, 60.0, 440.0);
     let tmax = means.iter().map(|v| v.ms).fold(1e-9, f64::max) * 1.05;
-    let emax = means.iter().map(|v| v.rmse).fold(1e-9, f64::max) * 1.05;
+    let emax = means.iter().map(|v| v.error()).fold(1e-9, f64::max) * 1.05;
     let px = |t: f64| m + t / tmax * w;
     let py = |e: f64| 20.0 + h - e / emax * h;
     let estimators = ["gtao", "hbao", "vo", "vao", "sao", "vo-area"];
@@ -1689,7 +1776,14 @@ fn frontier_plot(means: &[VariantMean]) -> String {
         w + m + right,
         (w, h, m),
         (tmax, emax),
-        ("mean ms per frame (every pass)", "mean RMSE vs ray-traced"),
+        (
+            "mean ms per frame (every pass)",
+            if means.iter().any(|v| v.moving.is_some()) {
+                "mean RMSE vs ray-traced (×N: the worse of still and moving)"
+            } else {
+                "mean RMSE vs ray-traced"
+            },
+        ),
     );
     let mut front: Vec<usize> = (0..means.len())
         .filter(|&i| means[i].beaten_by.is_none())
@@ -1697,7 +1791,7 @@ fn frontier_plot(means: &[VariantMean]) -> String {
     front.sort_by(|&a, &b| means[a].ms.total_cmp(&means[b].ms));
     let line: Vec<String> = front
         .iter()
-        .map(|&i| format!("{:.1},{:.1}", px(means[i].ms), py(means[i].rmse)))
+        .map(|&i| format!("{:.1},{:.1}", px(means[i].ms), py(means[i].error())))
         .collect();
     let _ = writeln!(
         s,
@@ -1711,9 +1805,9 @@ fn frontier_plot(means: &[VariantMean]) -> String {
             s,
             "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{fill}\" stroke=\"{c}\"><title>{}: {:.4}, {:.1} ms</title></circle>",
             px(v.ms),
-            py(v.rmse),
+            py(v.error()),
             v.variant,
-            v.rmse,
+            v.error(),
             v.ms
         );
     }
@@ -1725,14 +1819,14 @@ fn frontier_plot(means: &[VariantMean]) -> String {
             s,
             "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{}\" y2=\"{}\" stroke=\"#ccc\"/>\n<text x=\"{}\" y=\"{}\" fill=\"{}\">{} ({:.4}, {:.0} ms)</text>",
             px(v.ms),
-            py(v.rmse),
+            py(v.error()),
             m + w + 8.0,
             y - 4.0,
             m + w + 10.0,
             y,
             color(&v.estimator),
             v.variant,
-            v.rmse,
+            v.error(),
             v.ms
         );
     }

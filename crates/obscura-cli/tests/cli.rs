@@ -610,6 +610,25 @@ fn eval_rejects_bad_input() {
             &["eval", "--view", "cornell", "--presets", "extreme"][..],
             "--presets",
         ),
+        (
+            &["eval", "--view", "cornell", "--frames", "8,0"][..],
+            "--frames must each be in 1..=1000",
+        ),
+        (
+            &["eval", "--view", "cornell", "--sensor-noise", "0"][..],
+            "--sensor-noise needs --sensor",
+        ),
+        (
+            &[
+                "eval",
+                "--view",
+                "cornell",
+                "--sensor",
+                "kinect",
+                "--sensor-noise=-1",
+            ][..],
+            "--sensor-noise must be in 0..=10",
+        ),
     ] {
         let out = obscura(args);
         let err = String::from_utf8_lossy(&out.stderr);
@@ -619,6 +638,114 @@ fn eval_rejects_bad_input() {
         );
         assert!(err.contains(msg), "{args:?}: expected `{msg}` in {err}");
     }
+}
+
+/// `eval --frames 1,3,5`: single frames and accumulated ones in one run and one frontier.
+/// A ×3 variant that joins the 5-frame orbit two frames in scores exactly as it does alone
+/// (`--frames 3`: the same three cameras, a cut before the first); single frames have no
+/// orbit; the frontier shows the moving camera's error.
+#[test]
+fn eval_puts_single_and_accumulated_frames_in_one_frontier() {
+    let d = scratch("eval-frames");
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
+    let cache = d.join("cache");
+    let run = |frames: &str, tag: &str| -> (String, serde_json::Value) {
+        let (report, json) = (
+            d.join(format!("report-{tag}")),
+            d.join(format!("{tag}.json")),
+        );
+        let out = obscura(&[
+            "eval",
+            "--view",
+            "cornell",
+            "--scenes-dir",
+            scenes,
+            "--estimators",
+            "gtao",
+            "--modes",
+            "randomized",
+            "--frames",
+            frames,
+            "--orbit-step",
+            "3",
+            "--width",
+            "64",
+            "--height",
+            "40",
+            "--rays",
+            "16",
+            "--runs",
+            "1",
+            "--no-screen-reference",
+            "--no-pictures",
+            "--report",
+            s(&report),
+            "--json",
+            s(&json),
+            "--cache",
+            s(&cache),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let md = std::fs::read_to_string(report.join("index.md")).unwrap();
+        let j = std::fs::read_to_string(&json).unwrap();
+        (md, serde_json::from_str(&j).unwrap())
+    };
+    let record = |v: &serde_json::Value, variant: &str| {
+        v["records"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["variant"] == variant)
+            .unwrap_or_else(|| panic!("no {variant} in {v}"))
+            .clone()
+    };
+    let (md, all) = run("1,3,5", "all");
+    let (_, alone) = run("3", "alone");
+    let single = record(&all, "gtao randomized");
+    assert_eq!(single["frames"], 1);
+    assert!(single["orbit_rmse"].is_null(), "{single}");
+    for (n, r) in [
+        (3, record(&all, "gtao randomized ×3")),
+        (5, record(&all, "gtao randomized ×5")),
+    ] {
+        assert_eq!(r["frames"], n);
+        assert!(r["orbit_rmse"].as_f64().unwrap() > 0.0, "{r}");
+    }
+    let (joined, own) = (
+        record(&all, "gtao randomized ×3"),
+        record(&alone, "gtao randomized ×3"),
+    );
+    for k in ["rmse", "orbit_rmse", "flicker"] {
+        let (a, b) = (joined[k].as_f64().unwrap(), own[k].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-5, "{k}: {a} joined, {b} alone");
+    }
+    // The orbit's last frame differs from the still camera's (the camera moved 6°–12°).
+    assert_ne!(joined["orbit_rmse"], joined["rmse"]);
+    let front = &md[md
+        .find("### Quality-versus-time frontier")
+        .expect("frontier")..];
+    assert!(
+        front.contains("| variant | RMSE | moving | bias | ms | |"),
+        "{front}"
+    );
+    let listed: Vec<&str> = front
+        .lines()
+        .filter(|l| l.ends_with("**frontier** |") || l.contains("| beaten by "))
+        .collect();
+    assert_eq!(listed.len(), 3, "{front}");
+    let row = listed
+        .iter()
+        .find(|l| l.starts_with("| gtao randomized |"))
+        .unwrap();
+    assert!(
+        row.contains("| – |"),
+        "a single frame has no moving figure: {row}"
+    );
+    std::fs::remove_dir_all(d).unwrap();
 }
 
 /// The float32 payload of a 2-D C-order `.npy` of shape (h, w), checking its header.

@@ -83,9 +83,16 @@ impl RangeMap {
 }
 
 /// Sensor-like linear depth from clean linear depth `depth` (scene units, 0 = no surface),
-/// for a pinhole camera of focal length `focal_px` pixels. Returns the noisy depth and the
-/// map of the view's depth range onto the sensor's.
-pub fn simulate(depth: &[f32], focal_px: f32, sensor: Sensor, seed: u64) -> (Vec<f32>, RangeMap) {
+/// for a pinhole camera of focal length `focal_px` pixels, with the sensor's random noise
+/// times `noise_scale` (1: the sensor; 0: its quantisation alone). Returns the noisy depth
+/// and the map of the view's depth range onto the sensor's.
+pub fn simulate(
+    depth: &[f32],
+    focal_px: f32,
+    sensor: Sensor,
+    noise_scale: f32,
+    seed: u64,
+) -> (Vec<f32>, RangeMap) {
     let valid = || depth.iter().copied().filter(|d| d.is_finite() && *d > 0.0);
     let map = RangeMap::new(
         valid().fold(f32::MAX, f32::min),
@@ -101,12 +108,12 @@ pub fn simulate(depth: &[f32], focal_px: f32, sensor: Sensor, seed: u64) -> (Vec
             let z = map.offset + map.scale * d;
             let zm = match sensor {
                 Sensor::Kinect => {
-                    let z = z + 0.0015 * z * z * rng.gaussian();
+                    let z = z + noise_scale * 0.0015 * z * z * rng.gaussian();
                     (z * 1000.0).round() / 1000.0
                 }
                 Sensor::Stereo => {
                     let fb = focal_px * STEREO_BASELINE_M;
-                    let disparity = fb / z + STEREO_NOISE_PX * rng.gaussian();
+                    let disparity = fb / z + noise_scale * STEREO_NOISE_PX * rng.gaussian();
                     let q = (disparity / STEREO_STEP_PX).round() * STEREO_STEP_PX;
                     if q > 0.0 {
                         fb / q
@@ -139,7 +146,7 @@ mod tests {
         let mut depth = vec![3.0f32; 200_000];
         depth[0] = 1.0;
         depth[1] = 5.0;
-        let (noisy, map) = simulate(&depth, 500.0, Sensor::Kinect, 7);
+        let (noisy, map) = simulate(&depth, 500.0, Sensor::Kinect, 1.0, 7);
         assert!((map.offset + map.scale - NEAR_M).abs() < 1e-6);
         assert!((map.offset + 5.0 * map.scale - FAR_M).abs() < 1e-5);
         let z: Vec<f64> = noisy[2..]
@@ -158,20 +165,31 @@ mod tests {
         let (c, l, q) = map.sigma_in_depth((0.0, 0.0015));
         let sd_depth = c + l * 3.0 + q * 9.0;
         assert!((sd_depth - (want as f32) / map.scale).abs() < 1e-5);
+        // Half the noise scale: half the σ; none: the millimetre grid alone.
+        let sd_of = |scale: f32| {
+            let (n, _) = simulate(&depth, 500.0, Sensor::Kinect, scale, 7);
+            let z: Vec<f64> = n[2..]
+                .iter()
+                .map(|d| (map.offset + map.scale * d) as f64)
+                .collect();
+            (z.iter().map(|v| (v - 2.75).powi(2)).sum::<f64>() / z.len() as f64).sqrt()
+        };
+        assert!((sd_of(0.5) / (0.5 * want) - 1.0).abs() < 0.05);
+        assert!(sd_of(0.0) <= 0.0005, "{}", sd_of(0.0));
     }
 
     /// Stereo depth lies on the disparity grid: f·B / z is a multiple of the step.
     #[test]
     fn stereo_depth_is_disparity_quantised() {
         let depth: Vec<f32> = (1..1000).map(|i| i as f32 * 0.01).collect();
-        let (noisy, map) = simulate(&depth, 600.0, Sensor::Stereo, 3);
+        let (noisy, map) = simulate(&depth, 600.0, Sensor::Stereo, 1.0, 3);
         for (d, n) in depth.iter().zip(&noisy) {
             let z = map.offset + map.scale * n;
             let k = 600.0 * STEREO_BASELINE_M / z / STEREO_STEP_PX;
             assert!((k - k.round()).abs() < 1e-2, "{d} -> {z}: {k}");
         }
         // Missing depth stays missing.
-        let (n, _) = simulate(&[0.0, f32::NAN, 1.0], 600.0, Sensor::Stereo, 3);
+        let (n, _) = simulate(&[0.0, f32::NAN, 1.0], 600.0, Sensor::Stereo, 1.0, 3);
         assert_eq!(&n[..2], &[0.0, 0.0]);
     }
 }
