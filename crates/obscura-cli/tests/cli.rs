@@ -478,33 +478,28 @@ fn bench_rejects_bad_lists() {
     }
 }
 
+/// `obscura eval --view cornell` on the shared scenes with `args`, writing its report, its
+/// JSON (if given) and its reference cache where it is told.
+fn eval_cornell(args: &[&str], report: &Path, json: Option<&Path>, cache: &Path) -> Output {
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
+    let mut all = vec!["eval", "--view", "cornell", "--scenes-dir", scenes];
+    all.extend_from_slice(args);
+    all.extend(["--report", s(report), "--cache", s(cache)]);
+    if let Some(j) = json {
+        all.extend(["--json", s(j)]);
+    }
+    obscura(&all)
+}
+
 #[test]
 fn eval_writes_report_json_and_caches_the_reference() {
     let d = scratch("eval");
     let (report, json, cache) = (d.join("report"), d.join("q.json"), d.join("cache"));
-    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
     let args = [
-        "eval",
-        "--view",
-        "cornell",
-        "--scenes-dir",
-        scenes,
-        "--width",
-        "64",
-        "--height",
-        "40",
-        "--rays",
-        "16",
-        "--runs",
-        "1",
-        "--report",
-        s(&report),
-        "--json",
-        s(&json),
-        "--cache",
-        s(&cache),
+        "--width", "64", "--height", "40", "--rays", "16", "--runs", "1",
     ];
-    let out = obscura(&args);
+    let run = || eval_cornell(&args, &report, Some(&json), &cache);
+    let out = run();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("mean standard error"), "{err}");
@@ -578,7 +573,7 @@ fn eval_writes_report_json_and_caches_the_reference() {
         "{sampling}"
     );
     // The second run finds the reference in the cache.
-    let again = obscura(&args);
+    let again = run();
     assert!(String::from_utf8_lossy(&again.stderr).contains("reference: cached"));
     std::fs::remove_dir_all(d).unwrap();
 }
@@ -659,44 +654,37 @@ fn eval_rejects_bad_input() {
 #[test]
 fn eval_puts_single_and_accumulated_frames_in_one_frontier() {
     let d = scratch("eval-frames");
-    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
     let cache = d.join("cache");
     let run = |frames: &str, tag: &str| -> (String, serde_json::Value) {
         let (report, json) = (
             d.join(format!("report-{tag}")),
             d.join(format!("{tag}.json")),
         );
-        let out = obscura(&[
-            "eval",
-            "--view",
-            "cornell",
-            "--scenes-dir",
-            scenes,
-            "--estimators",
-            "gtao",
-            "--modes",
-            "randomized",
-            "--frames",
-            frames,
-            "--orbit-step",
-            "3",
-            "--width",
-            "64",
-            "--height",
-            "40",
-            "--rays",
-            "16",
-            "--runs",
-            "1",
-            "--no-screen-reference",
-            "--no-pictures",
-            "--report",
-            s(&report),
-            "--json",
-            s(&json),
-            "--cache",
-            s(&cache),
-        ]);
+        let out = eval_cornell(
+            &[
+                "--estimators",
+                "gtao",
+                "--modes",
+                "randomized",
+                "--frames",
+                frames,
+                "--orbit-step",
+                "3",
+                "--width",
+                "64",
+                "--height",
+                "40",
+                "--rays",
+                "16",
+                "--runs",
+                "1",
+                "--no-screen-reference",
+                "--no-pictures",
+            ],
+            &report,
+            Some(&json),
+            &cache,
+        );
         assert!(
             out.status.success(),
             "{}",
@@ -1289,35 +1277,28 @@ fn bent_normals_are_written_as_float_and_png() {
 fn eval_scores_bent_normals_against_the_ray_tracer() {
     let d = scratch("eval-bent");
     let (report, json, cache) = (d.join("report"), d.join("q.json"), d.join("cache"));
-    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
-    let out = obscura(&[
-        "eval",
-        "--view",
-        "cornell",
-        "--scenes-dir",
-        scenes,
-        "--estimators",
-        "gtao,hbao",
-        "--modes",
-        "randomized",
-        "--bent-normals",
-        "--width",
-        "128",
-        "--height",
-        "80",
-        "--rays",
-        "256",
-        "--runs",
-        "1",
-        "--no-screen-reference",
-        "--no-pictures",
-        "--report",
-        s(&report),
-        "--json",
-        s(&json),
-        "--cache",
-        s(&cache),
-    ]);
+    let out = eval_cornell(
+        &[
+            "--estimators",
+            "gtao,hbao",
+            "--modes",
+            "randomized",
+            "--bent-normals",
+            "--width",
+            "128",
+            "--height",
+            "80",
+            "--rays",
+            "256",
+            "--runs",
+            "1",
+            "--no-screen-reference",
+            "--no-pictures",
+        ],
+        &report,
+        Some(&json),
+        &cache,
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     let v: serde_json::Value =
@@ -1704,29 +1685,24 @@ fn ssdo_rejects_bad_input() {
 fn eval_ssdo_beats_ao_times_the_environment_on_the_cornell_box() {
     let d = scratch("eval-ssdo");
     let (report, cache) = (d.join("report"), d.join("cache"));
-    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
-    let out = obscura(&[
-        "eval",
-        "--ssdo",
-        "--view",
-        "cornell",
-        "--scenes-dir",
-        scenes,
-        "--modes",
-        "randomized",
-        "--width",
-        "160",
-        "--height",
-        "100",
-        "--rays",
-        "256",
-        "--runs",
-        "1",
-        "--report",
-        s(&report),
-        "--cache",
-        s(&cache),
-    ]);
+    let out = eval_cornell(
+        &[
+            "--ssdo",
+            "--modes",
+            "randomized",
+            "--width",
+            "160",
+            "--height",
+            "100",
+            "--rays",
+            "256",
+            "--runs",
+            "1",
+        ],
+        &report,
+        None,
+        &cache,
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     let md = std::fs::read_to_string(report.join("index.md")).unwrap();
