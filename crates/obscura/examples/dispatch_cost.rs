@@ -1,0 +1,196 @@
+//! What one compute pass costs on this adapter, apart from the work of obscura's shaders:
+//! an empty dispatch over every pixel, then a store, one texel load and nine loads per
+//! pixel. Each is timed as 1 pass, as 4 passes, and as 4 dispatches in one pass.
+//!
+//!     cargo run --release -p obscura --example dispatch_cost -- [WIDTHxHEIGHT]
+//!
+//! The question it answers (BENCHMARKS.md, "What a pass costs on lavapipe"): is a pass's
+//! fixed cost the dispatch machinery, which fusing passes would save, or the work every
+//! invocation does? Wall clock around submit + wait, median of 25 submissions, two rounds.
+//! The probes' WGSL is generated here: they are measurements, not passes of the library.
+
+use obscura::GpuContext;
+use std::time::Instant;
+
+const RUNS: usize = 25;
+
+/// A probe: `body` runs once per pixel with `p` (the pixel) in scope, `src` to read and
+/// `dst` to write.
+fn probe_source(body: &str, width: u32, height: u32) -> String {
+    format!(
+        "@group(0) @binding(0) var src: texture_2d<f32>;\n\
+         @group(0) @binding(1) var dst: texture_storage_2d<rgba32float, write>;\n\
+         @compute @workgroup_size(8, 8, 1)\n\
+         fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{\n\
+             if gid.x >= {width}u || gid.y >= {height}u {{ return; }}\n\
+             let p = vec2<i32>(gid.xy);\n\
+             {body}\n\
+         }}\n"
+    )
+}
+
+/// Nine loads (the 3 × 3 neighbourhood, clamped to the image) summed and stored, written
+/// out so no loop counter is timed with them.
+fn nine_loads(width: u32, height: u32) -> String {
+    let mut s = String::from("var a = vec4<f32>(0.0);\n");
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            s += &format!(
+                "a += textureLoad(src, clamp(p + vec2<i32>({dx}, {dy}), vec2<i32>(0), \
+                 vec2<i32>({}, {})), 0);\n",
+                width - 1,
+                height - 1
+            );
+        }
+    }
+    s + "textureStore(dst, p, a);"
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let size = std::env::args().nth(1).unwrap_or_else(|| "640x400".into());
+    let (width, height) = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
+        .ok_or_else(|| format!("size `{size}`: expected WIDTHxHEIGHT, each 1..=8192"))?;
+    let ctx = GpuContext::new()?;
+    println!("{}, {width}×{height}", ctx.describe());
+    let dev = &ctx.device;
+    let texture = |usage| {
+        dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some("dispatch_cost"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let src = texture(wgpu::TextureUsages::TEXTURE_BINDING);
+    let dst = texture(wgpu::TextureUsages::STORAGE_BINDING);
+    let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("dispatch_cost"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: wgpu::TextureFormat::Rgba32Float,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            },
+        ],
+    });
+    let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("dispatch_cost"),
+        layout: &layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&src.create_view(&Default::default())),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&dst.create_view(&Default::default())),
+            },
+        ],
+    });
+    let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("dispatch_cost"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let probes = [
+        ("empty", String::new()),
+        ("store", "textureStore(dst, p, vec4<f32>(1.0));".into()),
+        (
+            "1 load + store",
+            "textureStore(dst, p, textureLoad(src, p, 0));".into(),
+        ),
+        ("9 loads + store", nine_loads(width, height)),
+    ];
+    let pipelines: Vec<(&str, wgpu::ComputePipeline)> = probes
+        .iter()
+        .map(|(name, body)| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(probe_source(body, width, height).into()),
+            });
+            let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            (*name, pipeline)
+        })
+        .collect();
+    let groups = (width.div_ceil(8), height.div_ceil(8));
+    // `dispatches` dispatches, each in a pass of its own or all in one pass.
+    let time = |pipeline: &wgpu::ComputePipeline, dispatches: usize, own_pass: bool| {
+        let mut ms = Vec::with_capacity(RUNS);
+        for _ in 0..RUNS {
+            let start = Instant::now();
+            ctx.run(|encoder| {
+                let passes = if own_pass { dispatches } else { 1 };
+                for _ in 0..passes {
+                    let mut pass = encoder.begin_compute_pass(&Default::default());
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &bind, &[]);
+                    for _ in 0..dispatches / passes {
+                        pass.dispatch_workgroups(groups.0, groups.1, 1);
+                    }
+                }
+                Ok(())
+            })?;
+            ms.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        Ok::<f64, obscura::Error>(median(ms))
+    };
+    let mut submit = Vec::with_capacity(RUNS);
+    for _ in 0..RUNS {
+        let start = Instant::now();
+        ctx.run(|_| Ok(()))?;
+        submit.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    println!("an empty submission: {:.3} ms", median(submit));
+    println!("| round | probe | 1 pass, ms | 4 passes, ms | per extra pass, ms | 4 dispatches in 1 pass, ms |");
+    println!("|---|---|---|---|---|---|");
+    for round in 1..=2 {
+        for (name, pipeline) in &pipelines {
+            let one = time(pipeline, 1, true)?;
+            let four = time(pipeline, 4, true)?;
+            let fused = time(pipeline, 4, false)?;
+            println!(
+                "| {round} | {name} | {one:.2} | {four:.2} | {:.2} | {fused:.2} |",
+                (four - one) / 3.0
+            );
+        }
+    }
+    Ok(())
+}
