@@ -4,6 +4,8 @@
 //!
 //!     cargo run --release -p obscura --example dispatch_cost -- [WIDTHxHEIGHT]
 //!
+//! (default 640x400).
+//!
 //! The question it answers (BENCHMARKS.md, "What a pass costs on lavapipe"): is a pass's
 //! fixed cost the dispatch machinery, which fusing passes would save, or the work every
 //! invocation does? Wall clock around submit + wait, median of 25 submissions, two rounds.
@@ -52,13 +54,23 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let size = std::env::args().nth(1).unwrap_or_else(|| "640x400".into());
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() > 1 {
+        return Err(format!("expected at most one argument, WIDTHxHEIGHT; got {args:?}").into());
+    }
+    let size = args.first().map_or("640x400", String::as_str);
     let (width, height) = size
-        .split_once('x')
+        .split_once(['x', '×'])
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
-        .ok_or_else(|| format!("size `{size}`: expected WIDTHxHEIGHT, each 1..=8192"))?;
+        .filter(|&(w, h)| w > 0 && h > 0)
+        .ok_or_else(|| format!("size `{size}`: expected WIDTHxHEIGHT, each at least 1"))?;
     let ctx = GpuContext::new()?;
+    let max = ctx.device.limits().max_texture_dimension_2d;
+    if width > max || height > max {
+        return Err(
+            format!("size `{size}`: this adapter's textures are at most {max} on a side").into(),
+        );
+    }
     println!("{}, {width}×{height}", ctx.describe());
     let dev = &ctx.device;
     let texture = |usage| {
@@ -150,6 +162,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (*name, pipeline)
         })
         .collect();
+    // Creation errors go to the context's error sink: report them here, not at the first
+    // submission.
+    ctx.take_errors()
+        .map_err(|e| format!("creating the probes' textures and pipelines: {e}"))?;
     let groups = (width.div_ceil(8), height.div_ceil(8));
     // `dispatches` dispatches, each in a pass of its own or all in one pass.
     let time = |pipeline: &wgpu::ComputePipeline, dispatches: usize, own_pass: bool| {
@@ -157,12 +173,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for _ in 0..RUNS {
             let start = Instant::now();
             ctx.run(|encoder| {
-                let passes = if own_pass { dispatches } else { 1 };
+                let (passes, per_pass) = if own_pass {
+                    (dispatches, 1)
+                } else {
+                    (1, dispatches)
+                };
                 for _ in 0..passes {
                     let mut pass = encoder.begin_compute_pass(&Default::default());
                     pass.set_pipeline(pipeline);
                     pass.set_bind_group(0, &bind, &[]);
-                    for _ in 0..dispatches / passes {
+                    for _ in 0..per_pass {
                         pass.dispatch_workgroups(groups.0, groups.1, 1);
                     }
                 }
