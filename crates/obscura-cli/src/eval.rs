@@ -120,9 +120,12 @@ pub struct EvalArgs {
     /// Leave the per-view picture sections out of the report (tables and plot only).
     #[arg(long)]
     pub no_pictures: bool,
-    /// Where the estimator's normals come from.
-    #[arg(long, value_enum, default_value_t = NormalSource::Gbuffer)]
-    pub normals: NormalSource,
+    /// Where the estimator's normals come from. Default: the G-buffer's, or reconstructed
+    /// from the depth with --sensor (a depth camera gives none). `--sensor S --normals
+    /// gbuffer` gives the sensor-like depth the G-buffer's exact normals: what the noise
+    /// costs when the normals come from elsewhere (a dataset's, or `render --normals-file`).
+    #[arg(long, value_enum)]
+    pub normals: Option<NormalSource>,
     /// Timed runs per mode after a warm-up (interleaved across modes); the median is reported.
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
@@ -165,7 +168,7 @@ pub struct EvalArgs {
     pub history: u32,
     /// Evaluate on sensor-like depth made from each view's clean depth (the view scaled so
     /// its farthest surface is 5 m; see obscura_eval::sensor), with normals reconstructed
-    /// from it; the truth is the clean scene's.
+    /// from it unless --normals says otherwise; the truth is the clean scene's.
     #[arg(long, value_enum, default_value_t = SensorArg::None)]
     pub sensor: SensorArg,
     /// Scales the --sensor's random noise (0: its quantisation alone), not the model that
@@ -535,6 +538,16 @@ pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+impl EvalArgs {
+    /// `--normals`, or its default: the G-buffer's, reconstructed with `--sensor`.
+    fn normal_source(&self) -> NormalSource {
+        self.normals.unwrap_or(match self.sensor {
+            SensorArg::None => NormalSource::Gbuffer,
+            _ => NormalSource::Reconstruct,
+        })
+    }
+}
+
 pub fn run(a: &EvalArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 || a.width > 8192 || a.height > 8192 {
         bail!(
@@ -579,6 +592,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let temporal_run = a.frames.iter().any(|&f| f > 1);
     if temporal_run && !(2..=256).contains(&a.history) {
         bail!("--history must be in 2..=256 (got {})", a.history);
+    }
+    if a.sensor != SensorArg::None && temporal_run {
+        bail!(
+            "--sensor evaluates single frames (its noise is drawn once, and the orbit \
+             rasterizes clean depth)"
+        );
     }
     if a.msaa && temporal_run {
         bail!("--msaa evaluates single frames (the orbit rasterizes single-sampled depth)");
@@ -842,7 +861,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         };
         let mut input = match &msaa {
             Some(m) => m.ao_input(&cam),
-            None => g.ao_input(&cam, a.normals == NormalSource::Gbuffer),
+            None => g.ao_input(&cam, a.normal_source() == NormalSource::Gbuffer),
         };
         let noisy = match a.sensor {
             SensorArg::None => None,
@@ -858,7 +877,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         if let Some(s) = &noisy {
             input.depth = &s.view;
             input.convention = obscura::DepthConvention::LinearView;
-            input.normals = None;
+            if a.normal_source() == NormalSource::Reconstruct {
+                input.normals = None;
+            }
             if a.depth_noise == NoiseArg::Known {
                 params.depth_noise = s.known;
             }
@@ -952,7 +973,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             for k in 0..orbit_frames {
                 let c = cam.orbit(a.orbit_step * (k as f32 - (orbit_frames - 1) as f32));
                 let gk = raster.render(&ctx, &gpu_mesh, &c, w, h)?;
-                let ik = gk.ao_input(&c, a.normals == NormalSource::Gbuffer);
+                let ik = gk.ao_input(&c, a.normal_source() == NormalSource::Gbuffer);
                 for (i, ao) in aos.iter_mut().enumerate() {
                     let first = orbit_frames - frames_of[i];
                     if frames_of[i] == 1 || k < first {
