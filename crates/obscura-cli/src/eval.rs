@@ -877,9 +877,6 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         if let Some(s) = &noisy {
             input.depth = &s.view;
             input.convention = obscura::DepthConvention::LinearView;
-            if a.normal_source() == NormalSource::Reconstruct {
-                input.normals = None;
-            }
             if a.depth_noise == NoiseArg::Known {
                 params.depth_noise = s.known;
             }
