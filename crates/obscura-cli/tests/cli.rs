@@ -478,6 +478,22 @@ fn bench_rejects_bad_lists() {
     }
 }
 
+/// The record of `variant` in `eval --json`'s output `v`.
+fn record(v: &serde_json::Value, variant: &str) -> serde_json::Value {
+    v["records"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["variant"] == variant)
+        .unwrap_or_else(|| panic!("no {variant} in {v}"))
+        .clone()
+}
+
+/// A JSON file, parsed.
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
 /// `obscura eval --view cornell` on the shared scenes with `args`, writing its report, its
 /// JSON (if given) and its reference cache where it is told.
 fn eval_cornell(args: &[&str], report: &Path, json: Option<&Path>, cache: &Path) -> Output {
@@ -699,15 +715,6 @@ fn eval_puts_single_and_accumulated_frames_in_one_frontier() {
         let md = std::fs::read_to_string(report.join("index.md")).unwrap();
         let j = std::fs::read_to_string(&json).unwrap();
         (md, serde_json::from_str(&j).unwrap())
-    };
-    let record = |v: &serde_json::Value, variant: &str| {
-        v["records"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|r| r["variant"] == variant)
-            .unwrap_or_else(|| panic!("no {variant} in {v}"))
-            .clone()
     };
     let (md, all) = run("1,3,5", "all");
     let (_, alone) = run("3", "alone");
@@ -1307,16 +1314,8 @@ fn eval_scores_bent_normals_against_the_ray_tracer() {
     );
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    let records = v["records"].as_array().unwrap();
-    let of = |variant: &str, field: &str| {
-        records
-            .iter()
-            .find(|r| r["variant"] == variant)
-            .map(|r| r[field].clone())
-            .unwrap()
-    };
+    let v = read_json(&json);
+    let of = |variant: &str, field: &str| record(&v, variant)[field].clone();
     for variant in ["gtao randomized", "hbao randomized"] {
         let deg = |field| of(variant, field).as_f64().unwrap();
         for field in [
@@ -1381,14 +1380,8 @@ fn eval_sensor_takes_the_gbuffer_normals_when_asked() {
         let out = eval_cornell(&args, &report, Some(&json), &cache);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{extra:?}: {err}");
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        v["records"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|r| r["variant"] == "gtao randomized")
-            .and_then(|r| r["normal_deg"].as_f64())
+        record(&read_json(&json), "gtao randomized")["normal_deg"]
+            .as_f64()
             .unwrap()
     };
     let clean = normal_deg(&[], "clean");
