@@ -29,35 +29,36 @@
 //!
 //! Every input is validated before any GPU work; errors are typed ([`Error`]).
 
-pub mod ao;
 pub mod budget;
-pub mod context;
-pub mod depth_map;
-pub mod environment;
+pub mod depth;
 pub mod error;
+pub mod frame;
 pub mod fuzz;
-pub mod gpu_struct;
-pub mod input;
-pub mod jitter;
-pub mod layout;
-pub mod lights;
-pub mod noise;
+pub mod gpu;
+pub mod passes;
 pub mod reference;
 pub mod settings;
-pub mod shader;
-pub mod ssdo;
-pub mod uniforms;
+pub mod shading;
 
-pub use ao::{Ao, AoInput, ResourceCount, Timing};
+// Short paths to the modules users reach for (and the paths of earlier releases).
+pub use depth::{depth_map, input, noise};
+pub use frame::ao;
+pub use gpu::{context, gpu_struct};
+pub use passes::layers as layout;
+pub use passes::{constants, jitter, shader, uniforms};
+pub use shading::{environment, lights, ssdo};
+
 pub use context::{AdapterChoice, GpuContext, ADAPTER_ENV};
 pub use depth_map::{DepthMap, Intrinsics};
 pub use environment::{Environment, EnvironmentMap, IrradianceSh};
 pub use error::{Error, Result};
+pub use frame::{Ao, AoInput, ResourceCount, Timing};
 pub use input::{DepthConvention, Linearize, NormalEncoding, Projection, SkyTest, Viewport};
-pub use lights::{Lights, LightsOptions, PointLight, Prepared};
+pub use lights::{Lights, LightsOptions, PointLight};
 pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
     Preset, PyramidBuild, Resolution, Upsampler, MIN_SCALE,
 };
+pub use shading::prepared::Prepared;
 pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};

@@ -240,7 +240,7 @@ fn shading_and_merge_match_cpu_reference_for_every_period() {
                 );
             }
             // Packed for the merge: each pixel's geometry and its shading within one
-            // step of the encoding (shaders/lit_packed.wgsl) beyond rounding.
+            // step of the encoding (passes/lights/lit_packed.wgsl) beyond rounding.
             Some(packed) => check_packed(packed, &p, &want_raw, period),
         }
         if let Some(packed) = &packed {

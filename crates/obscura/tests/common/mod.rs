@@ -31,7 +31,7 @@ pub fn read_packed(c: &GpuContext, t: &wgpu::Texture) -> Vec<[u32; 4]> {
     bytemuck::pod_collect_to_vec(&c.read_texture(t).unwrap())
 }
 
-/// A packed merge (shaders/lights_merge.wgsl) against its mirror
+/// A packed merge (passes/lights/lights_merge.wgsl) against its mirror
 /// (`reference::merge_lights_packed`). Both round the pass along x's result to the
 /// encoding's steps, so a rounding difference (~1e-7) can put one ratio a step apart (a
 /// tie, as a depth rule's picks in tests/gpu.rs): at most 0.5% of the pixels may differ by

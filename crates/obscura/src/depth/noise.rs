@@ -29,7 +29,7 @@
 //! step / d² over bins whose terraces are coarser than the unit. Noise of half a step or
 //! more dithers terraces away (Widrow & Kollár 2008), leaving no ties: then no step.
 
-use crate::shader::DEPTH_RANGE_TOLERANCE;
+use crate::passes::constants::DEPTH_RANGE_TOLERANCE;
 use crate::{DepthNoise, Error, Projection, Result};
 
 /// The quantile of the windows' residuals that estimates σ in a bin, and that quantile of

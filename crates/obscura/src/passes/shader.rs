@@ -2,11 +2,11 @@
 //! prelude is generated here from Rust constants and [`gpu_struct!`](crate::gpu_struct)
 //! declarations: the single source of truth for values both sides use.
 
-use crate::environment::SH9_SCALE;
-use crate::jitter::{PATTERN_COUNT, PATTERN_DIM};
-use crate::lights::{GpuLight, LightsUniforms, LIGHTS_CLASS_MIN_WEIGHT, LIGHTS_MAX};
-use crate::ssdo::{SsdoUniforms, SSDO_SELF_TOLERANCE};
-use crate::uniforms::FrameUniforms;
+pub use crate::passes::constants::*;
+use crate::passes::jitter::{PATTERN_COUNT, PATTERN_DIM};
+use crate::passes::lights::{GpuLight, LightsUniforms};
+use crate::passes::ssdo::SsdoUniforms;
+use crate::passes::uniforms::FrameUniforms;
 use crate::{DepthDownsample, Estimator, Upsampler};
 
 /// Compiles one of obscura's WGSL passes without wgpu's loop-bounding guard.
@@ -42,113 +42,6 @@ pub(crate) fn create_module(
     }
 }
 
-/// Compute workgroup edge: every pass runs `WORKGROUP_SIZE × WORKGROUP_SIZE` invocations.
-pub const WORKGROUP_SIZE: u32 = 8;
-
-/// Storage format of the prepared buffer: `vec4(linear depth, view normal xyz)`.
-pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Storage format of the AO output: one channel, 1 = unoccluded, 0 = fully occluded.
-pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Storage format of the full-resolution linear depth written by the fused downsampling
-/// prepare pass ([`PrepareStore::Down`]).
-pub const LINEAR_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Storage format of the MSAA resolve's output: the raw depth of one sample, or the mean of
-/// all (shaders/resolve_depth.wgsl), read by the prepare pass as a float depth input.
-pub const RESOLVED_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Storage format of the depth pyramid: `vec4(select, min, max, 0)` (shaders/pyramid.wgsl).
-pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Storage format of the depth moments pyramid: `vec4(valid fraction, mean, variance, 0)`
-/// of linear depth (shaders/moments.wgsl), read by VO's area integral.
-pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-
-/// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
-/// the denoiser, temporal reprojection): a sample farther than this fraction of the depth
-/// (or [`NOISE_TOLERANCE_SIGMAS`] σ of the depth noise, if more) from the centre's tangent
-/// plane is on another surface. 2%: well above the depth change across a few pixels of a
-/// surface at 80° to the view (~1%), well below the gap between stacked objects.
-pub const PLANE_TOLERANCE: f32 = 0.02;
-/// The classified upsampler treats a low-resolution texel whose footprint's depths (depth
-/// pyramid min/max) span more than this fraction of its depth as an edge.
-pub const DEPTH_RANGE_TOLERANCE: f32 = 0.05;
-
-/// VO and VAO (shaders/sphere.wgsl): the solid behind a visible surface is assumed this
-/// many AO radii deep (Loos & Sloan 2010's thickness model) instead of infinitely deep.
-/// Two radii, the sphere's diameter, chosen over all shared views among 1, 2 and ∞ radii:
-/// mean discontinuity-band RMSE against ray-traced AO 0.165 → 0.127 (VO) and 0.151 → 0.093
-/// (VAO), whole-image RMSE 0.147 → 0.150 (VO) and 0.113 → 0.098 (VAO).
-pub const SPHERE_THICKNESS: f32 = 2.0;
-
-/// The spatial denoiser's tangent-plane tolerance is also at most this fraction of the AO
-/// radius (shaders/denoise.wgsl): AO changes over the scale of the radius, so on a distant
-/// view, where 2% of the depth spans several radii, points that far apart across a
-/// surface do not share AO. Chosen over all shared views among 0.05, 0.1, 0.25 and no
-/// limit (GTAO high, 2×2 deinterleaved, mean RMSE against ray-traced AO 0.0609, 0.0609,
-/// 0.0613, 0.0619).
-pub const DENOISE_RADIUS_TOLERANCE: f32 = 0.1;
-/// Every depth-aware pass's tangent-plane tolerance (the upsamplers, temporal reprojection,
-/// the denoiser) is at least this many σ of the depth noise ([`crate::DepthNoise`]), so
-/// noise does not read as an edge (common.wgsl, `plane_tolerance`).
-pub const NOISE_TOLERANCE_SIGMAS: f32 = 2.0;
-/// Ridge on the spatial denoiser's slope, in px² (shaders/denoise.wgsl). Against the spread
-/// of two columns of full-weight taps (2/9 px² or more) it shrinks a slope by under 0.05%;
-/// where the spread is about the ridge or less (taps across it nearly or wholly rejected)
-/// the fit falls back towards the weighted mean, and taps that all lie on one line get
-/// slope 0 across it instead of 0/0. It dominates f32 rounding of the spread (~1e-7).
-pub const DENOISE_RIDGE: f32 = 1e-4;
-/// Temporal reprojection keeps a history texel only if its surface normal is within about
-/// 26° of this pixel's (cosine at least this): across a convex edge the neighbouring face's
-/// texels lie within the tangent-plane tolerance of this face's plane, and on a face seen
-/// edge-on (a pixel or two wide, just disoccluded) they made up most of the bilinear
-/// footprint. The normal test of reprojection caches (SVGF, Schied et al. 2017), at about
-/// the angle where the denoiser's normal weight halves (25°).
-pub const HISTORY_NORMAL_COS: f32 = 0.9;
-/// Storage format of the temporal history: `vec4(AO, frames accumulated, linear depth,
-/// normal)`, the view-space normal packed in one float (shaders/temporal.wgsl, `pack_normal`).
-pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Many-light shading ([`crate::lights`]): `vec4(irradiance rgb, 1)`.
-pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Many-light shading on its way to the merge (shaders/lit_packed.wgsl): linear depth,
-/// the normal in 3 × 10 bits, and irradiance as its largest component and three ratios to it.
-pub const LIT_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
-/// The packed normal's components are stored as `(n + 1) / 2 ×` this, rounded: 10 bits each
-/// (shaders/lit_packed.wgsl), within 1/1023 of the normal; the merge's weights need no more.
-pub const LIT_NORMAL_MAX: f32 = 1023.0;
-/// The packed irradiance's ratios to its largest component are rounded to `ratio ×` these:
-/// 11, 11 and 10 bits (shaders/lit_packed.wgsl).
-pub const LIT_RATIO_MAX: [f32; 3] = [2047.0, 2047.0, 1023.0];
-/// Bent normals ([`crate::AoOptions::bent_normals`]): `vec4(n, 0)`, n unit, view space.
-pub const BENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// One axis of seed 003's tent downsample filter (shaders/ao_downsample.wgsl): taps 2
-/// texels apart weighted 1-2-1 (the 2D weights are the outer product, 1-2-1 × 1-2-1 / 16).
-pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
-/// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
-/// |error| ≤ 5e-5 (GTAO's `fast_acos`, shaders/gtao_arcs.wgsl, and its mirror).
-pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
-/// Noisy depth (shaders/normals_fit.wgsl): each pixel's plane is fitted to
-/// (2 · FIT_RADIUS + 1)² depths, taps `stride` pixels apart.
-pub const FIT_RADIUS: i32 = 3;
-/// The fit's window is the smallest (3 × 3, 5 × 5, 7 × 7 taps, then taps up to
-/// FIT_MAX_STRIDE pixels apart) whose normal has a standard error below this tangent
-/// (20°): wider windows smooth away real detail the size of the window. Chosen over all
-/// shared views with Kinect-like noise among tan 5°, 10° and 20° (GTAO, 2×2
-/// deinterleaved, no denoiser, FIT_SIGMAS 3, mean RMSE against ray-traced AO on six views 0.1359,
-/// 0.1295, 0.1250; docs/depth-noise.md).
-pub const FIT_NORMAL_TAN: f32 = 0.36;
-pub const FIT_MAX_STRIDE: i32 = 4;
-/// Taps whose depth is farther than FIT_SIGMAS σ from the plane (√2 FIT_SIGMAS σ from the
-/// centre's depth, plus FIT_SLOPE footprints per pixel of offset, in the first fit) belong
-/// to another surface. FIT_SLOPE = 4: surfaces up to 76° from facing the camera. 1.5:
-/// chosen over all shared views with Kinect-like noise among 1, 1.5, 2 and 3 (mean RMSE
-/// with the spatial denoiser 0.1004, 0.0980, 0.1011, 0.1198 at 20°; docs/depth-noise.md):
-/// wider bands merge real steps of the size of the noise into the plane.
-pub const FIT_SIGMAS: f32 = 1.5;
-pub const FIT_SLOPE: f32 = 4.0;
-/// The estimators measure occluders from the surface raised this many σ along its normal
-/// ([`crate::DepthNoise`]; common.wgsl, `estimator_origin`).
-pub const NOISE_OFFSET_SIGMAS: f32 = 1.0;
-/// Texel distance between the tent filter's taps.
-pub const TENT_SPACING: i32 = 2;
-
 /// Where the first pyramid level reads linear depth from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PyramidSource {
@@ -161,10 +54,6 @@ pub enum PyramidSource {
     Mip,
 }
 
-/// Pyramid levels one pass of [`Pass::PyramidLevels`] writes: WebGPU's default limit of
-/// storage textures per shader stage.
-pub const PYRAMID_LEVELS_PER_PASS: u32 = 4;
-
 /// Where the prepare pass writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PrepareStore {
@@ -173,7 +62,7 @@ pub enum PrepareStore {
     /// Straight into the N×N deinterleaved layers (the split fused away).
     Layers,
     /// Half resolution by a depth rule, plus what the passes after the AO read at full
-    /// resolution: the first downsampling fused away (shaders/prepare_down.wgsl), for AO
+    /// resolution: the first downsampling fused away (passes/prepare/prepare_down.wgsl), for AO
     /// below full resolution. `normals`: the full-resolution output is `vec4(depth,
     /// normal)` (for the bilateral upsampler), else linear depth only.
     Down {
@@ -191,7 +80,7 @@ pub enum DepthBinding {
     Float,
 }
 
-/// The compute passes. Each is composed from WGSL fragments in `shaders/` (one pass =
+/// The compute passes. Each is composed from WGSL fragments under `src/passes/` (one pass =
 /// entry file + the fragments it names); [`Pass::label`] is its pipeline name and debug label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
@@ -229,13 +118,13 @@ pub enum Pass {
     /// Prepared buffer 2×2 → 1 by a depth rule.
     Downsample { rule: DepthDownsample, level: u32 },
     /// Full-resolution prepared buffer → the working grid of [`crate::Resolution::Scaled`]
-    /// (any scale, by the depth rule of `AoOptions::downsample`; shaders/rescale.wgsl).
+    /// (any scale, by the depth rule of `AoOptions::downsample`; passes/pyramid/rescale.wgsl).
     Rescale,
     /// The working grid's AO → full resolution at any scale, joint bilateral weights
-    /// (shaders/upsample_scaled.wgsl).
+    /// (passes/upsample/upsample_scaled.wgsl).
     UpsampleScaled,
     /// Low-resolution AO → full resolution; `bent`: bent normals too, `full_normals`: the
-    /// full-resolution input holds normals (see shaders/upsample_bent.wgsl).
+    /// full-resolution input holds normals (see passes/upsample/upsample_bent.wgsl).
     Upsample {
         upsampler: Upsampler,
         bent: bool,
@@ -469,43 +358,43 @@ impl Pass {
     /// The WGSL fragments of the pass, in order (after the prelude and common.wgsl).
     fn fragments(self) -> Vec<&'static str> {
         let estimator_source = |e: Estimator| match e {
-            Estimator::Hbao => include_str!("../shaders/hbao.wgsl"),
+            Estimator::Hbao => include_str!("estimators/hbao.wgsl"),
             Estimator::Gtao => concat!(
-                include_str!("../shaders/gtao_arcs.wgsl"),
+                include_str!("estimators/gtao_arcs.wgsl"),
                 "\n",
-                include_str!("../shaders/gtao.wgsl")
+                include_str!("estimators/gtao.wgsl")
             ),
             Estimator::Vo | Estimator::Vao | Estimator::VoArea => {
-                include_str!("../shaders/sphere.wgsl")
+                include_str!("estimators/sphere.wgsl")
             }
-            Estimator::Sao => include_str!("../shaders/sao.wgsl"),
+            Estimator::Sao => include_str!("estimators/sao.wgsl"),
         };
         // How sphere.wgsl reads a chord: one depth (VO, VAO) or a texel's depth moments
         // (VO's area integral).
         let sphere_chord = |e: Estimator| match e {
-            Estimator::Vo | Estimator::Vao => Some(include_str!("../shaders/sphere_line.wgsl")),
-            Estimator::VoArea => Some(include_str!("../shaders/sphere_area.wgsl")),
+            Estimator::Vo | Estimator::Vao => Some(include_str!("estimators/sphere_line.wgsl")),
+            Estimator::VoArea => Some(include_str!("estimators/sphere_area.wgsl")),
             _ => None,
         };
-        const STORE_PREPARED_FULL: &str = include_str!("../shaders/prepare_store_full.wgsl");
-        const STORE_PREPARED_LAYERS: &str = include_str!("../shaders/prepare_store_layers.wgsl");
-        const STORE_AO_FULL: &str = include_str!("../shaders/ao_store_full.wgsl");
-        const STORE_AO_LAYERS: &str = include_str!("../shaders/ao_store_layers.wgsl");
-        const PREPARE: &str = include_str!("../shaders/prepare.wgsl");
-        const DOWNSAMPLE_RULE: &str = include_str!("../shaders/downsample_rule.wgsl");
-        const UPSAMPLE_FOOTPRINT: &str = include_str!("../shaders/upsample_footprint.wgsl");
-        const UPSAMPLE_BILATERAL: &str = include_str!("../shaders/upsample_bilateral.wgsl");
+        const STORE_PREPARED_FULL: &str = include_str!("prepare/prepare_store_full.wgsl");
+        const STORE_PREPARED_LAYERS: &str = include_str!("prepare/prepare_store_layers.wgsl");
+        const STORE_AO_FULL: &str = include_str!("estimators/ao_store_full.wgsl");
+        const STORE_AO_LAYERS: &str = include_str!("estimators/ao_store_layers.wgsl");
+        const PREPARE: &str = include_str!("prepare/prepare.wgsl");
+        const DOWNSAMPLE_RULE: &str = include_str!("pyramid/downsample_rule.wgsl");
+        const UPSAMPLE_FOOTPRINT: &str = include_str!("upsample/upsample_footprint.wgsl");
+        const UPSAMPLE_BILATERAL: &str = include_str!("upsample/upsample_bilateral.wgsl");
         // The depth source fragment of the pyramid and moments passes.
         let pyramid_source = |source: PyramidSource| match source {
-            PyramidSource::Full => include_str!("../shaders/pyramid_from_full.wgsl"),
-            PyramidSource::Layers => include_str!("../shaders/pyramid_from_layers.wgsl"),
-            PyramidSource::Mip => include_str!("../shaders/pyramid_from_mip.wgsl"),
+            PyramidSource::Full => include_str!("pyramid/pyramid_from_full.wgsl"),
+            PyramidSource::Layers => include_str!("pyramid/pyramid_from_layers.wgsl"),
+            PyramidSource::Mip => include_str!("pyramid/pyramid_from_mip.wgsl"),
         };
         let prepared_source = |layers: bool| {
             if layers {
-                include_str!("../shaders/prepared_layers.wgsl")
+                include_str!("prepared_layers.wgsl")
             } else {
-                include_str!("../shaders/prepared_full.wgsl")
+                include_str!("prepared_full.wgsl")
             }
         };
         match self {
@@ -517,19 +406,19 @@ impl Pass {
             } => {
                 let mut v = vec![
                     match depth {
-                        DepthBinding::Depth => include_str!("../shaders/depth_input_depth.wgsl"),
-                        DepthBinding::Float => include_str!("../shaders/depth_input_float.wgsl"),
+                        DepthBinding::Depth => include_str!("prepare/depth_input_depth.wgsl"),
+                        DepthBinding::Float => include_str!("prepare/depth_input_float.wgsl"),
                     },
-                    include_str!("../shaders/prepare_input.wgsl"),
+                    include_str!("prepare/prepare_input.wgsl"),
                     if reconstruct {
-                        include_str!("../shaders/normals_reconstruct.wgsl")
+                        include_str!("prepare/normals_reconstruct.wgsl")
                     } else {
-                        include_str!("../shaders/normals_given.wgsl")
+                        include_str!("prepare/normals_given.wgsl")
                     },
                     if fit {
-                        include_str!("../shaders/normals_fit.wgsl")
+                        include_str!("prepare/normals_fit.wgsl")
                     } else {
-                        include_str!("../shaders/surface_plain.wgsl")
+                        include_str!("ssdo/surface_plain.wgsl")
                     },
                 ];
                 v.extend(match store {
@@ -538,14 +427,14 @@ impl Pass {
                     PrepareStore::Down { normals, .. } => [
                         DOWNSAMPLE_RULE,
                         if normals {
-                            include_str!("../shaders/prepare_down_prepared.wgsl")
+                            include_str!("prepare/prepare_down_prepared.wgsl")
                         } else {
-                            include_str!("../shaders/prepare_down_depth.wgsl")
+                            include_str!("prepare/prepare_down_depth.wgsl")
                         },
                     ],
                 });
                 if matches!(store, PrepareStore::Down { .. }) {
-                    v.push(include_str!("../shaders/prepare_down.wgsl"));
+                    v.push(include_str!("prepare/prepare_down.wgsl"));
                 }
                 v
             }
@@ -555,7 +444,7 @@ impl Pass {
                     estimator_source(estimator),
                     STORE_AO_FULL,
                     ao_bent(bent),
-                    include_str!("../shaders/ao_full.wgsl"),
+                    include_str!("estimators/ao_full.wgsl"),
                 ])
                 .collect(),
             Pass::AoLayered {
@@ -572,103 +461,101 @@ impl Pass {
                         STORE_AO_LAYERS
                     },
                     ao_bent(bent),
-                    include_str!("../shaders/ao_layered.wgsl"),
+                    include_str!("estimators/ao_layered.wgsl"),
                 ])
                 .collect(),
             Pass::Deinterleave => vec![
                 STORE_PREPARED_LAYERS,
-                include_str!("../shaders/deinterleave.wgsl"),
+                include_str!("layers/deinterleave.wgsl"),
             ],
-            Pass::Interleave => vec![STORE_AO_FULL, include_str!("../shaders/interleave.wgsl")],
-            Pass::Pyramid { source } => vec![
-                pyramid_source(source),
-                include_str!("../shaders/pyramid.wgsl"),
-            ],
-            Pass::PyramidLevels => vec![include_str!("../shaders/pyramid_levels.wgsl")],
-            Pass::Moments { source } => vec![
-                pyramid_source(source),
-                include_str!("../shaders/moments.wgsl"),
-            ],
+            Pass::Interleave => vec![STORE_AO_FULL, include_str!("layers/interleave.wgsl")],
+            Pass::Pyramid { source } => {
+                vec![pyramid_source(source), include_str!("pyramid/pyramid.wgsl")]
+            }
+            Pass::PyramidLevels => vec![include_str!("pyramid/pyramid_levels.wgsl")],
+            Pass::Moments { source } => {
+                vec![pyramid_source(source), include_str!("pyramid/moments.wgsl")]
+            }
             Pass::Downsample { .. } => {
-                vec![DOWNSAMPLE_RULE, include_str!("../shaders/downsample.wgsl")]
+                vec![DOWNSAMPLE_RULE, include_str!("pyramid/downsample.wgsl")]
             }
             Pass::Upsample {
                 upsampler, bent, ..
             } => vec![
                 if bent {
-                    include_str!("../shaders/upsample_bent.wgsl")
+                    include_str!("upsample/upsample_bent.wgsl")
                 } else {
-                    include_str!("../shaders/upsample_bent_none.wgsl")
+                    include_str!("upsample/upsample_bent_none.wgsl")
                 },
                 UPSAMPLE_FOOTPRINT,
-                include_str!("../shaders/upsample.wgsl"),
+                include_str!("upsample/upsample.wgsl"),
                 match upsampler {
-                    Upsampler::Bilinear => include_str!("../shaders/upsample_bilinear.wgsl"),
-                    Upsampler::NearestDepth => include_str!("../shaders/upsample_nearest.wgsl"),
-                    Upsampler::Classified => include_str!("../shaders/upsample_classified.wgsl"),
+                    Upsampler::Bilinear => include_str!("upsample/upsample_bilinear.wgsl"),
+                    Upsampler::NearestDepth => include_str!("upsample/upsample_nearest.wgsl"),
+                    Upsampler::Classified => include_str!("upsample/upsample_classified.wgsl"),
                     Upsampler::Bilateral => UPSAMPLE_BILATERAL,
                 },
             ],
-            Pass::Rescale => vec![DOWNSAMPLE_RULE, include_str!("../shaders/rescale.wgsl")],
+            Pass::Rescale => vec![DOWNSAMPLE_RULE, include_str!("pyramid/rescale.wgsl")],
             Pass::UpsampleScaled => vec![
-                include_str!("../shaders/upsample_bent_none.wgsl"),
+                include_str!("upsample/upsample_bent_none.wgsl"),
                 UPSAMPLE_FOOTPRINT,
-                include_str!("../shaders/upsample_scaled.wgsl"),
+                include_str!("upsample/upsample_scaled.wgsl"),
                 UPSAMPLE_BILATERAL,
             ],
             Pass::Denoise { layers, bent } => {
                 vec![
                     prepared_source(layers),
-                    include_str!("../shaders/merge.wgsl"),
+                    include_str!("denoise/merge.wgsl"),
                     if bent {
-                        include_str!("../shaders/denoise_bent.wgsl")
+                        include_str!("denoise/denoise_bent.wgsl")
                     } else {
-                        include_str!("../shaders/denoise_bent_none.wgsl")
+                        include_str!("denoise/denoise_bent_none.wgsl")
                     },
-                    include_str!("../shaders/denoise.wgsl"),
+                    include_str!("denoise/denoise.wgsl"),
                 ]
             }
             Pass::Temporal { layers, bent } => {
                 vec![
                     prepared_source(layers),
                     if bent {
-                        include_str!("../shaders/temporal_bent.wgsl")
+                        include_str!("temporal/temporal_bent.wgsl")
                     } else {
-                        include_str!("../shaders/temporal_bent_none.wgsl")
+                        include_str!("temporal/temporal_bent_none.wgsl")
                     },
-                    include_str!("../shaders/temporal.wgsl"),
+                    include_str!("temporal/temporal.wgsl"),
                 ]
             }
-            Pass::AoDownsample { .. } => vec![include_str!("../shaders/ao_downsample.wgsl")],
-            Pass::ResolveDepth => vec![include_str!("../shaders/resolve_depth.wgsl")],
+            Pass::AoDownsample { .. } => vec![include_str!("denoise/ao_downsample.wgsl")],
+            Pass::ResolveDepth => vec![include_str!("prepare/resolve_depth.wgsl")],
             Pass::LightsShade { layers, packed } => [
                 &[prepared_source(layers)][..],
                 &lit_out(false, packed)[..],
-                &[include_str!("../shaders/lights_shade.wgsl")][..],
+                &[include_str!("lights/lights_shade.wgsl")][..],
             ]
             .concat(),
             Pass::LightsMerge { packed_out } => [
                 &lit_out(true, packed_out)[..],
                 &[
-                    include_str!("../shaders/merge.wgsl"),
-                    include_str!("../shaders/lights_merge.wgsl"),
+                    include_str!("denoise/merge.wgsl"),
+                    include_str!("lights/lights_merge.wgsl"),
                 ][..],
             ]
             .concat(),
             Pass::SsdoBounce { layers, packed } => [
                 &[
                     prepared_source(layers),
-                    include_str!("../shaders/gtao_arcs.wgsl"),
-                    include_str!("../shaders/ssdo_env.wgsl"),
+                    include_str!("estimators/gtao_arcs.wgsl"),
+                    include_str!("ssdo/ssdo_env.wgsl"),
                 ][..],
                 &lit_out(false, packed)[..],
-                &[include_str!("../shaders/ssdo_bounce.wgsl")][..],
+                &[include_str!("ssdo/ssdo_bounce.wgsl")][..],
             ]
             .concat(),
             Pass::SsdoCombine { layers } => vec![
                 prepared_source(layers),
-                include_str!("../shaders/ssdo_env.wgsl"),
-                include_str!("../shaders/ssdo_combine.wgsl"),
+                include_str!("ssdo/ssdo_env.wgsl"),
+                include_str!("ssdo/ssdo_combine.wgsl"),
             ],
         }
     }
@@ -677,7 +564,7 @@ impl Pass {
     pub fn source(self) -> String {
         let mut s = prelude();
         s.push('\n');
-        s.push_str(include_str!("../shaders/common.wgsl"));
+        s.push_str(include_str!("common.wgsl"));
         for f in self.fragments() {
             s.push('\n');
             s.push_str(f);
@@ -772,8 +659,8 @@ impl Pass {
                 }
             }
             Pass::AoDownsample { tent } => vec![("TENT", tent as u32 as f64)],
-            // Not AO passes: [`crate::lights::Lights`] sets their `PERIOD`.
-            // Not AO passes: [`crate::ssdo::Ssdo`] sets theirs.
+            // Not AO passes: [`crate::shading::lights::Lights`] sets their `PERIOD`.
+            // Not AO passes: [`crate::shading::ssdo::Ssdo`] sets theirs.
             Pass::LightsShade { .. }
             | Pass::LightsMerge { .. }
             | Pass::SsdoBounce { .. }
@@ -809,12 +696,12 @@ fn bent_constant(e: Estimator, bent: bool) -> Vec<(&'static str, f64)> {
 fn lit_out(packed_in: bool, packed: bool) -> Vec<&'static str> {
     let mut v = Vec::new();
     if packed_in || packed {
-        v.push(include_str!("../shaders/lit_packed.wgsl"));
+        v.push(include_str!("lights/lit_packed.wgsl"));
     }
     v.push(if packed {
-        include_str!("../shaders/lit_out_packed.wgsl")
+        include_str!("lights/lit_out_packed.wgsl")
     } else {
-        include_str!("../shaders/lit_out_plain.wgsl")
+        include_str!("lights/lit_out_plain.wgsl")
     });
     v
 }
@@ -822,9 +709,9 @@ fn lit_out(packed_in: bool, packed: bool) -> Vec<&'static str> {
 /// The AO pass's bent-normal fragment: stored, or the empty interface.
 fn ao_bent(bent: bool) -> &'static str {
     if bent {
-        include_str!("../shaders/ao_bent.wgsl")
+        include_str!("estimators/ao_bent.wgsl")
     } else {
-        include_str!("../shaders/ao_bent_none.wgsl")
+        include_str!("estimators/ao_bent_none.wgsl")
     }
 }
 
@@ -852,7 +739,7 @@ fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
 /// Constants and structs generated from Rust.
 pub fn prelude() -> String {
     format!(
-        "// Generated from Rust (crates/obscura/src/shader.rs): do not copy these values.\n\
+        "// Generated from Rust (crates/obscura/src/passes/constants.rs): do not copy these values.\n\
          const WG_SIZE: u32 = {WORKGROUP_SIZE}u;\n\
          const PATTERN_DIM: u32 = {PATTERN_DIM}u;\n\
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\

@@ -21,7 +21,7 @@ wgsl_types! {
     [[f32; 4]; 3] => "array<vec4<f32>, 3>",
     [[f32; 4]; 4] => "mat4x4<f32>",
     [[f32; 4]; 9] => "array<vec4<f32>, 9>",
-    [[f32; 4]; crate::jitter::PATTERN_COUNT] => "array<vec4<f32>, PATTERN_COUNT>",
+    [[f32; 4]; crate::passes::jitter::PATTERN_COUNT] => "array<vec4<f32>, PATTERN_COUNT>",
 }
 
 /// Declares a struct usable as a uniform, with `fn wgsl() -> String` giving its WGSL form.
@@ -43,7 +43,7 @@ macro_rules! gpu_struct {
                 $(s.push_str(&format!(
                     "    {}: {},\n",
                     stringify!($field),
-                    <$ty as $crate::gpu_struct::WgslType>::WGSL
+                    <$ty as $crate::gpu::gpu_struct::WgslType>::WGSL
                 ));)*
                 s.push_str("}\n");
                 s

@@ -2,7 +2,7 @@
 // 2010; seed 002: "a mip-map of depth average and variance ... sample the mip-map level in
 // which a texel covers about the same amount of screen-space"). Each of the DIRECTIONS ×
 // STEPS samples stands for 1/(DIRECTIONS × STEPS) of the sphere's screen disk and reads the
-// moments (shaders/moments.wgsl) of the largest texels that fit in that area, so the disk
+// moments (passes/pyramid/moments.wgsl) of the largest texels that fit in that area, so the disk
 // is covered instead of point-sampled. The depths in the texel's footprint are taken as
 // uniform over mean ± sqrt(3) σ, the uniform distribution with that mean and variance (our
 // choice: no tails, unlike a normal distribution's, and in closed form; on a bimodal

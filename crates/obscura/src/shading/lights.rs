@@ -5,11 +5,11 @@
 //! interleaved Deferred Shading of Interleaved Sample Patterns") give each pixel of an
 //! N × N tile a different 1/N² of the lights and merge the tile back with a geometry-aware
 //! filter: seed 000's interleaved sampling applied to lights instead of AO directions. Here
-//! the shading pass (shaders/lights_shade.wgsl) reads the prepared `vec4(linear depth, view
+//! the shading pass (passes/lights/lights_shade.wgsl) reads the prepared `vec4(linear depth, view
 //! normal)` buffer of an [`crate::Ao`] (one texture or its N×N layers,
 //! [`crate::Ao::prepared_source`]; or any texture in that format), and the merge
-//! (shaders/lights_merge.wgsl) interpolates each pixel class's lattice at every pixel with
-//! the AO denoiser's geometric weights (shaders/merge.wgsl) and averages the classes: one
+//! (passes/lights/lights_merge.wgsl) interpolates each pixel class's lattice at every pixel with
+//! the AO denoiser's geometric weights (passes/denoise/merge.wgsl) and averages the classes: one
 //! layout, one set of weights, two filters (docs/filters.md).
 //!
 //! ```text
@@ -19,7 +19,7 @@
 //! ```
 //!
 //! Where a merge follows, the shading writes each pixel's depth, normal and irradiance
-//! in one packed texel (shaders/lit_packed.wgsl), so each of the merge's taps is one
+//! in one packed texel (passes/lights/lit_packed.wgsl), so each of the merge's taps is one
 //! fetch instead of two: on lavapipe the merge cost about a third less so (BENCHMARKS.md,
 //! "Many-light shading").
 //!
@@ -29,30 +29,17 @@
 //! made only on the first frame at a size or with a new prepared texture. CPU mirror: [`crate::reference::shade_lights`] and
 //! [`crate::reference::merge_lights_packed`] (and [`crate::reference::pack_lit`]).
 
-use crate::ao::{compile_with, lit_format, make_texture, Compiled, ErrorScope};
-use crate::shader::{dispatch_size, Pass, PREPARED_FORMAT};
-use crate::uniforms::FrameUniforms;
+use crate::gpu::pipeline::{compile_with, make_texture, Compiled, ErrorScope};
+use crate::passes::bindings::lit_format;
+pub use crate::passes::constants::{LIGHTS_CLASS_MIN_WEIGHT, LIGHTS_MAX, LIGHT_MIN_DISTANCE};
+pub use crate::passes::lights::{GpuLight, LightsUniforms};
+use crate::passes::shader::{dispatch_size, Pass};
+use crate::passes::uniforms::FrameUniforms;
+pub use crate::shading::prepared::Prepared;
 use crate::{Error, Result};
-
-/// A light's squared distance is clamped below at the square of this fraction of its
-/// range (shaders/lights_shade.wgsl): the usual clamp of a virtual point light's 1/d²
-/// singularity near surfaces (Keller 1997, "Instant Radiosity"), which otherwise puts a
-/// firefly on every surface a light sits on. 5%: a light lights the disc of its range
-/// with at most 400× the irradiance at its range's edge (before the window).
-pub const LIGHT_MIN_DISTANCE: f32 = 0.05;
-
-/// The merge (shaders/lights_merge.wgsl) leaves a pixel class out when its taps' weights
-/// (linear, 1 to period − 1 each, times geometric, at most 1) sum below this: neither of
-/// its taps lies within about 2.6 plane tolerances of the centre's surface (exp(−2.6²) ≈
-/// 1e-3 for a tap of linear weight 1, a little farther for heavier ones).
-pub const LIGHTS_CLASS_MIN_WEIGHT: f32 = 1e-3;
 
 /// Periods the passes support: 1 (every light, no merge) and 2, 4, 8.
 pub const LIGHT_PERIODS: [u32; 4] = [1, 2, 4, 8];
-
-/// Most lights per frame: the lights are a uniform array (shaders/lights_shade.wgsl),
-/// and 2048 × 32 bytes is WebGPU's default `maxUniformBufferBindingSize`, 64 KiB.
-pub const LIGHTS_MAX: u32 = 2048;
 
 /// A point light in the prepared buffer's view space (x right, y up, camera looking down
 /// −z, the units of the linear depth).
@@ -91,26 +78,6 @@ impl PointLight {
             value: format!("light {index}: {self:?}"),
             expected: "a finite position, a colour in [0, 1e20] and a range in [1e-15, 1e18]",
         })
-    }
-}
-
-crate::gpu_struct! {
-    /// A light as shaders/lights_shade.wgsl reads it (built from [`PointLight`]).
-    pub struct GpuLight {
-        /// View-space position, 1 / range².
-        pub position_inv_range2: [f32; 4],
-        /// Colour, and the squared distance clamp (`LIGHT_MIN_DISTANCE` × range)².
-        pub colour_min_distance2: [f32; 4],
-    }
-}
-
-crate::gpu_struct! {
-    /// Per-frame parameters of the shading pass.
-    pub struct LightsUniforms {
-        /// Lights in the buffer this frame.
-        pub count: u32,
-        pub pad0: u32,
-        pub pad1: [u32; 2],
     }
 }
 
@@ -156,87 +123,6 @@ impl LightsOptions {
 
     fn merges(&self) -> bool {
         self.merge && self.period > 1
-    }
-}
-
-/// Where [`Lights`] reads linear depth and view normals (`vec4(d, n)`, [`PREPARED_FORMAT`],
-/// `TEXTURE_BINDING` usage): an AO's [`crate::Ao::prepared_source`], or a texture of the
-/// caller's.
-#[derive(Clone, Copy, Debug)]
-pub enum Prepared<'a> {
-    /// One texture at the frame's size.
-    Full(&'a wgpu::Texture),
-    /// `split` × `split` layers of a `texture_2d_array` (the AO's fused deinterleaved
-    /// modes): pixel (x, y) at texel (x / split, y / split) of layer
-    /// `x mod split + split · (y mod split)` (src/layout.rs).
-    Layers {
-        texture: &'a wgpu::Texture,
-        split: u32,
-    },
-}
-
-impl<'a> From<&'a wgpu::Texture> for Prepared<'a> {
-    fn from(t: &'a wgpu::Texture) -> Self {
-        Prepared::Full(t)
-    }
-}
-
-impl Prepared<'_> {
-    pub(crate) fn texture(&self) -> &wgpu::Texture {
-        match *self {
-            Prepared::Full(t) | Prepared::Layers { texture: t, .. } => t,
-        }
-    }
-
-    /// 0 for one texture, else the split.
-    pub(crate) fn split(&self) -> u32 {
-        match *self {
-            Prepared::Full(_) => 0,
-            Prepared::Layers { split, .. } => split,
-        }
-    }
-
-    /// Checks format, usage and size against the frame's `size`.
-    pub(crate) fn validate(&self, size: [u32; 2]) -> Result<()> {
-        let t = self.texture();
-        let (want, layers) = match *self {
-            Prepared::Full(_) => (size, 1),
-            Prepared::Layers { split, .. } => {
-                if split != 2 && split != 4 {
-                    return Err(Error::InvalidSetting {
-                        field: "split",
-                        value: split.to_string(),
-                        expected: "2 or 4 (the AO's deinterleaved modes)",
-                    });
-                }
-                (
-                    [size[0].div_ceil(split), size[1].div_ceil(split)],
-                    split * split,
-                )
-            }
-        };
-        let ok = t.format() == PREPARED_FORMAT
-            && [t.width(), t.height()] == want
-            && t.depth_or_array_layers() == layers
-            && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING);
-        if ok {
-            return Ok(());
-        }
-        Err(Error::InvalidTexture {
-            what: "prepared",
-            reason: format!(
-                "{:?} {}x{}x{} ({:?}); expected {PREPARED_FORMAT:?}, {}x{}x{layers} for a {}x{} frame, with TEXTURE_BINDING",
-                t.format(),
-                t.width(),
-                t.height(),
-                t.depth_or_array_layers(),
-                t.usage(),
-                want[0],
-                want[1],
-                size[0],
-                size[1],
-            ),
-        })
     }
 }
 
@@ -567,7 +453,7 @@ impl Lights {
     }
 
     /// The result of the last frame: merged irradiance, or the raw shading when nothing
-    /// merges (`vec4(rgb, 1)`, [`crate::shader::LIT_FORMAT`]). `None` before the first frame.
+    /// merges (`vec4(rgb, 1)`, [`crate::passes::constants::LIT_FORMAT`]). `None` before the first frame.
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()
@@ -575,7 +461,7 @@ impl Lights {
     }
 
     /// The raw shading before the merge (each pixel its class's lights, × period²): where
-    /// the passes merge, packed with each pixel's geometry ([`crate::shader::LIT_PACKED_FORMAT`];
+    /// the passes merge, packed with each pixel's geometry ([`crate::passes::constants::LIT_PACKED_FORMAT`];
     /// [`crate::reference::unpack_lit`] decodes it), else as [`Lights::output`].
     pub fn raw(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().map(|s| &s.lit)

@@ -1,6 +1,6 @@
 //! The input contract: how depth is encoded, how the camera projects, which part of the
 //! texture to process. All conversions here are pure functions, mirrored by the WGSL in
-//! `shaders/common.wgsl` through the uniform values they produce.
+//! `passes/common.wgsl` through the uniform values they produce.
 //!
 //! View space follows the usual right-handed convention: x right, y up, the camera looks
 //! along −z. "Linear depth" `d` is the positive distance along the view axis, `d = −z_view`.

@@ -9,6 +9,7 @@
 //! World space is y up. Irradiance here is normalised by π, `E(n) = (1/π) ∫ L(ω) max(n·ω, 0)
 //! dω`, so a constant sky L gives E = L and a surface of albedo ρ reflects ρ · E.
 
+pub use crate::passes::constants::SH9_SCALE;
 use crate::{Error, Result};
 
 /// Real spherical harmonics of bands 0–2 at unit `d` (x, y, z), in the order (0,0), (1,−1),
@@ -28,10 +29,6 @@ pub fn sh9_basis(d: [f32; 3]) -> [f32; 9] {
         k[4] * (x * x - y * y),
     ]
 }
-
-/// The harmonics' normalising constants: 1/(2√π), √3/(2√π), √15/(2√π), √5/(4√π),
-/// √15/(4√π) (shared with shaders/ssdo_env.wgsl).
-pub const SH9_SCALE: [f32; 5] = [0.282_095, 0.488_603, 1.092_548, 0.315_392, 0.546_274];
 
 /// The clamped cosine's band weights divided by π: 1, 2/3, 1/4 (bands 0, 1, 2).
 const COSINE_BANDS: [f32; 9] = [

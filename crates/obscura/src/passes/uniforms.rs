@@ -1,6 +1,6 @@
 //! The per-frame uniform block shared by every pass, and how it is derived from the inputs.
 
-use crate::jitter::{fixed_table, pattern_table, PATTERN_COUNT};
+use crate::passes::jitter::{fixed_table, pattern_table, PATTERN_COUNT};
 use crate::{AoOptions, AoParams, DepthConvention, NormalEncoding, Projection, Result, Viewport};
 
 crate::gpu_struct! {
@@ -99,7 +99,7 @@ impl FrameUniforms {
         options.validate()?;
         params.validate()?;
         let lin = projection.linearize(convention)?;
-        let rotation = normals.map_or(Ok(crate::input::IDENTITY3), |e| e.to_view())?;
+        let rotation = normals.map_or(Ok(crate::depth::input::IDENTITY3), |e| e.to_view())?;
         if viewport.width == 0 || viewport.height == 0 {
             return Err(crate::Error::InvalidViewport(format!(
                 "{}x{} is empty",
@@ -147,7 +147,7 @@ impl FrameUniforms {
                 crate::Estimator::Vo | crate::Estimator::Vao | crate::Estimator::VoArea => {
                     params.strength
                 }
-                // Alchemy AO's 2σ/s with σ = R folded into the sum (shaders/sao.wgsl).
+                // Alchemy AO's 2σ/s with σ = R folded into the sum (passes/estimators/sao.wgsl).
                 crate::Estimator::Sao => {
                     2.0 * params.strength / (options.directions * options.steps) as f32
                 }
@@ -178,12 +178,12 @@ impl FrameUniforms {
                 0.0,
             ],
             patterns: if options.jitter {
-                pattern_table(crate::jitter::rotation_sector(
+                pattern_table(crate::passes::jitter::rotation_sector(
                     options.estimator,
                     options.directions,
                 ))
             } else {
-                fixed_table(crate::jitter::rotation_sector(
+                fixed_table(crate::passes::jitter::rotation_sector(
                     options.estimator,
                     options.directions,
                 ))
@@ -267,7 +267,7 @@ impl FrameUniforms {
     }
 
     /// The AO radius in pixels at linear depth `d`; mirrors `radius_px` in
-    /// shaders/common.wgsl.
+    /// passes/common.wgsl.
     pub fn radius_px(&self, d: f32) -> f32 {
         let mut r = self.radius * self.radius_to_px;
         if self.perspective != 0 {
@@ -277,44 +277,45 @@ impl FrameUniforms {
     }
 
     /// Ray-march step in pixels at linear depth `d`; mirrors `march_step_px` in
-    /// shaders/common.wgsl.
+    /// passes/common.wgsl.
     pub fn step_px(&self, d: f32, steps: u32) -> f32 {
         self.radius_px(d) / (steps + 1) as f32
     }
 
-    /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in shaders/common.wgsl.
+    /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in passes/common.wgsl.
     pub fn depth_sigma(&self, d: f32) -> f32 {
         (self.noise[0] + (self.noise[1] + self.noise[2] * d) * d).max(0.0)
     }
 
     /// Tangent-plane tolerance of the depth-aware passes at linear depth `d`; mirrors
-    /// `plane_tolerance` in shaders/common.wgsl.
+    /// `plane_tolerance` in passes/common.wgsl.
     pub fn plane_tolerance(&self, d: f32) -> f32 {
-        (crate::shader::PLANE_TOLERANCE * d)
-            .max(crate::shader::NOISE_TOLERANCE_SIGMAS * self.depth_sigma(d))
+        (crate::passes::constants::PLANE_TOLERANCE * d)
+            .max(crate::passes::constants::NOISE_TOLERANCE_SIGMAS * self.depth_sigma(d))
     }
 
     /// The depth terraces' step at linear depth `d`; mirrors `depth_step` in
-    /// shaders/common.wgsl.
+    /// passes/common.wgsl.
     pub fn depth_step(&self, d: f32) -> f32 {
         self.noise_step[0].max(self.noise_step[1] * d * d)
     }
 
     /// Where the estimators measure occluders from; mirrors `estimator_origin` in
-    /// shaders/common.wgsl.
+    /// passes/common.wgsl.
     pub fn estimator_origin(&self, p: [f32; 2], d: f32, n: glam::Vec3) -> glam::Vec3 {
-        self.view_position(p, d) + n * (crate::shader::NOISE_OFFSET_SIGMAS * self.depth_sigma(d))
+        self.view_position(p, d)
+            + n * (crate::passes::constants::NOISE_OFFSET_SIGMAS * self.depth_sigma(d))
     }
 
     /// View-space position of pixel centre `p` (viewport-local, in pixels) at linear depth `d`.
-    /// Mirrors `view_position` in shaders/common.wgsl.
+    /// Mirrors `view_position` in passes/common.wgsl.
     pub fn view_position(&self, p: [f32; 2], d: f32) -> glam::Vec3 {
         self.view_position_scaled(p, d, self.ndc_to_view, self.inv_size)
     }
 
     /// [`FrameUniforms::view_position`] with another projection's `ndc_to_view` on another
     /// grid's `inv_size` (the previous frame's); mirrors `view_position_scaled` in
-    /// shaders/common.wgsl.
+    /// passes/common.wgsl.
     pub fn view_position_scaled(
         &self,
         p: [f32; 2],

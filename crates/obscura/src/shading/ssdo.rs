@@ -10,14 +10,14 @@
 //!   environment's light as `V · E(b)`, `E` the environment's irradiance
 //!   ([`crate::environment`], nine harmonics): the bent cone's approximation that engines
 //!   use with XeGTAO's bent normals (exact for a constant sky).
-//! - **One bounce** (shaders/ssdo_bounce.wgsl): GTAO's slices (Jimenez et al. 2016) marched
+//! - **One bounce** (passes/ssdo/ssdo_bounce.wgsl): GTAO's slices (Jimenez et al. 2016) marched
 //!   again per pixel; on each side the arc between the tangent plane and the horizon is
 //!   lit by the sample that set the horizon, whose radiance is its albedo times the
 //!   environment's irradiance at its normal (unshadowed). Interleaved like the many-light
 //!   pass: each pixel class of a `period` × `period` tile takes its own slice rotation and
 //!   step offset, and the geometry-aware merge of [`crate::Lights`]
-//!   (shaders/lights_merge.wgsl) reconstructs every pixel from all classes.
-//! - **Combine** (shaders/ssdo_combine.wgsl): radiance = albedo · (V · E(b) + bounce).
+//!   (passes/lights/lights_merge.wgsl) reconstructs every pixel from all classes.
+//! - **Combine** (passes/ssdo/ssdo_combine.wgsl): radiance = albedo · (V · E(b) + bounce).
 //!
 //! ```text
 //! prepared, albedo ──ssdo_bounce (class k: its slices)──▶ bounce ──lights_merge ×2──▶ merged
@@ -26,43 +26,18 @@
 //!
 //! CPU mirror: [`crate::reference::ssdo_bounce`], [`crate::reference::ssdo_combine`].
 
-use crate::ao::{compile_with, make_texture, Compiled, ErrorScope};
-use crate::environment::IrradianceSh;
-use crate::lights::Prepared;
-use crate::shader::{dispatch_size, Pass, AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
-use crate::uniforms::FrameUniforms;
+use crate::gpu::pipeline::{compile_with, make_texture, Compiled, ErrorScope};
+pub use crate::passes::constants::SSDO_SELF_TOLERANCE;
+use crate::passes::constants::{AO_FORMAT, BENT_FORMAT, LIT_FORMAT};
+use crate::passes::shader::{dispatch_size, Pass};
+pub use crate::passes::ssdo::{SsdoUniforms, SSDO_PATTERNS};
+use crate::passes::uniforms::FrameUniforms;
+use crate::shading::environment::IrradianceSh;
+use crate::shading::prepared::Prepared;
 use crate::{Error, Result};
 
 /// Periods of the bounce's interleaving: 1 (every pixel the same slices), 2, 4.
 pub const SSDO_PERIODS: [u32; 3] = [1, 2, 4];
-
-/// The bounce skips samples less than this fraction of the depth (plus the depth noise's
-/// tolerance) above the receiver's tangent plane: they are its own surface, which a sample
-/// snapped off the slice can show a hair above the horizon (shaders/ssdo_bounce.wgsl).
-/// Relative to the depth, not the radius: the AO denoiser's plane tolerance (2% of the
-/// depth) can exceed the whole AO radius on a distant view and dropped every occluder
-/// there (the bounce of the city views fell by half).
-pub const SSDO_SELF_TOLERANCE: f32 = 1e-4;
-
-/// Pixel classes of the largest period: the uniform holds one pattern per class (as many
-/// as the AO's jitter patterns, whose WGSL array type it shares).
-pub const SSDO_PATTERNS: usize = crate::jitter::PATTERN_COUNT;
-const _: () = assert!(SSDO_PATTERNS >= 16);
-
-crate::gpu_struct! {
-    /// Per-frame parameters of the SSDO passes.
-    pub struct SsdoUniforms {
-        /// The environment's irradiance harmonics (rgb, w unused), [`IrradianceSh`].
-        pub irradiance: [[f32; 4]; 9],
-        /// Columns (xyz) of the rotation from view space to the environment's world space.
-        pub view_to_world: [[f32; 4]; 3],
-        /// Per pixel class: the first slice's screen direction (xy) and the march's step
-        /// offset in [0, 1) (z).
-        pub patterns: [[f32; 4]; SSDO_PATTERNS],
-        /// x: 1 when bent normals are bound; y: 1 when the bounce is added.
-        pub flags: [u32; 4],
-    }
-}
 
 /// How [`Ssdo`] runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -288,7 +263,7 @@ impl Ssdo {
             Pass::SsdoBounce { layers, packed },
             &bounce_constants,
         );
-        let merge = packed.then(|| crate::lights::compile_merge(device, options.period));
+        let merge = packed.then(|| crate::shading::lights::compile_merge(device, options.period));
         let split_only: Vec<_> = constants
             .iter()
             .filter(|c| c.0 == "SPLIT")
@@ -409,7 +384,7 @@ impl Ssdo {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
-        let (bounce, merged) = crate::lights::make_lit_textures(
+        let (bounce, merged) = crate::shading::lights::make_lit_textures(
             device,
             "obscura ssdo bounce",
             dims,
@@ -519,7 +494,7 @@ impl Ssdo {
     }
 
     /// The raw interleaved bounce before the merge (`None` as for [`Ssdo::bounce`]): where it
-    /// merges, packed with each pixel's geometry ([`crate::shader::LIT_PACKED_FORMAT`];
+    /// merges, packed with each pixel's geometry ([`crate::passes::constants::LIT_PACKED_FORMAT`];
     /// [`crate::reference::unpack_lit`] decodes it), else as [`Ssdo::bounce`].
     pub fn bounce_raw(&self) -> Option<&wgpu::Texture> {
         self.sized

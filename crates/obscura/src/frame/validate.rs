@@ -1,0 +1,178 @@
+//! What the caller hands over each frame ([`AoInput`]) and its validation: every input is
+//! checked before any GPU work, and errors are typed ([`crate::Error`]).
+
+use crate::passes::constants::AO_FORMAT;
+use crate::passes::shader::DepthBinding;
+use crate::passes::uniforms::FrameUniforms;
+use crate::{
+    AoOptions, AoParams, DepthConvention, Error, NormalEncoding, Projection, Result, Viewport,
+};
+
+/// What the caller hands over each frame.
+#[derive(Clone, Copy, Debug)]
+pub struct AoInput<'a> {
+    /// Depth, as a depth format (Depth32Float, Depth24Plus, Depth16Unorm; depth-only view
+    /// for combined depth-stencil formats) or a float format (R32Float, R16Float), with
+    /// `TEXTURE_BINDING` usage. A multisampled depth-format texture (MSAA) is resolved
+    /// first, one depth per pixel (passes/prepare/resolve_depth.wgsl: the pixel-centre depth
+    /// where every sample sees one surface, else the nearest sample).
+    pub depth: &'a wgpu::TextureView,
+    /// How the depth values are encoded.
+    pub convention: DepthConvention,
+    /// The camera projection that produced the depth.
+    pub projection: Projection,
+    /// Optional view-space normals, same size as the depth texture; reconstructed from
+    /// depth when `None`.
+    pub normals: Option<(&'a wgpu::TextureView, NormalEncoding)>,
+    /// The region to process; `None` means the whole depth texture.
+    pub viewport: Option<Viewport>,
+    /// Where to write the AO: a view of a whole `R32Float` 2D texture (one mip, one layer)
+    /// of the viewport's size with `STORAGE_BINDING` usage; 1 = unoccluded. `None`: a
+    /// texture the library owns ([`crate::Ao::output`]).
+    pub output: Option<&'a wgpu::TextureView>,
+}
+
+/// How a depth input binds.
+pub(crate) fn depth_binding(format: wgpu::TextureFormat) -> Result<DepthBinding> {
+    use wgpu::TextureFormat as F;
+    match format {
+        F::Depth32Float
+        | F::Depth24Plus
+        | F::Depth16Unorm
+        | F::Depth24PlusStencil8
+        | F::Depth32FloatStencil8 => Ok(DepthBinding::Depth),
+        F::R32Float | F::R16Float => Ok(DepthBinding::Float),
+        _ => Err(Error::UnsupportedFormat {
+            what: "depth",
+            format,
+            expected: "Depth32Float, Depth24Plus, Depth16Unorm, a depth-stencil format, R32Float or R16Float",
+        }),
+    }
+}
+
+/// Checks `input` and `params` against `options` and the device's largest texture side
+/// (`max_dim`), and derives the frame uniforms. No GPU work.
+pub(crate) fn validate(
+    options: &AoOptions,
+    max_dim: u32,
+    input: &AoInput<'_>,
+    params: &AoParams,
+) -> Result<FrameUniforms> {
+    let tex = input.depth.texture();
+    let binding = depth_binding(tex.format())?;
+    if tex.sample_count() != 1 && binding != DepthBinding::Depth {
+        return Err(Error::UnsupportedFormat {
+            what: "multisampled depth",
+            format: tex.format(),
+            expected: "a depth format (Depth32Float, Depth24Plus, Depth16Unorm, a depth-stencil format) when multisampled",
+        });
+    }
+    if !tex.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+        return Err(Error::InvalidTexture {
+            what: "depth",
+            reason: "it lacks TEXTURE_BINDING usage".into(),
+        });
+    }
+    let viewport = input
+        .viewport
+        .unwrap_or(Viewport::full(tex.width(), tex.height()));
+    let fits = |w: u32, h: u32| {
+        viewport
+            .x
+            .checked_add(viewport.width)
+            .is_some_and(|r| r <= w)
+            && viewport
+                .y
+                .checked_add(viewport.height)
+                .is_some_and(|b| b <= h)
+    };
+    if !fits(tex.width(), tex.height()) {
+        return Err(Error::InvalidViewport(format!(
+            "{viewport:?} does not fit the {}x{} depth texture",
+            tex.width(),
+            tex.height()
+        )));
+    }
+    if viewport.width > max_dim || viewport.height > max_dim {
+        return Err(Error::TooLarge {
+            width: viewport.width,
+            height: viewport.height,
+            max: max_dim,
+        });
+    }
+    if let Some((n, _)) = input.normals {
+        let nt = n.texture();
+        if !matches!(
+            nt.format().sample_type(None, None),
+            Some(wgpu::TextureSampleType::Float { .. })
+        ) || nt.sample_count() != 1
+        {
+            return Err(Error::UnsupportedFormat {
+                what: "normal",
+                format: nt.format(),
+                expected: "a single-sampled float or unorm colour format",
+            });
+        }
+        if nt.width() != tex.width() || nt.height() != tex.height() {
+            return Err(Error::InvalidTexture {
+                what: "normal",
+                reason: format!(
+                    "it is {}x{} but the depth texture is {}x{}",
+                    nt.width(),
+                    nt.height(),
+                    tex.width(),
+                    tex.height()
+                ),
+            });
+        }
+        if !nt.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+            return Err(Error::InvalidTexture {
+                what: "normal",
+                reason: "it lacks TEXTURE_BINDING usage".into(),
+            });
+        }
+    }
+    if let Some(out) = input.output {
+        let t = out.texture();
+        if t.format() != AO_FORMAT {
+            return Err(Error::UnsupportedFormat {
+                what: "output",
+                format: t.format(),
+                expected: "R32Float",
+            });
+        }
+        let bad = |reason: String| {
+            Err(Error::InvalidTexture {
+                what: "output",
+                reason,
+            })
+        };
+        if !t.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+            return bad("it lacks STORAGE_BINDING usage".into());
+        }
+        if t.dimension() != wgpu::TextureDimension::D2
+            || t.depth_or_array_layers() != 1
+            || t.mip_level_count() != 1
+            || t.sample_count() != 1
+        {
+            return bad("it must be a single-sampled 2D texture with one mip and one layer".into());
+        }
+        if (t.width(), t.height()) != (viewport.width, viewport.height) {
+            return bad(format!(
+                "it is {}x{} but the viewport is {}x{}",
+                t.width(),
+                t.height(),
+                viewport.width,
+                viewport.height
+            ));
+        }
+    }
+    FrameUniforms::new(
+        &input.projection,
+        input.convention,
+        input.normals.map(|n| n.1),
+        viewport,
+        options,
+        params,
+    )
+}
