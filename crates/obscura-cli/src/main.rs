@@ -1,15 +1,16 @@
 //! `obscura`: screen-space ambient occlusion from the command line.
 
-mod bench;
-mod budget;
-mod depthmap;
-mod eval;
-mod lights;
+mod commands;
+mod options;
 mod output;
-mod render;
-mod ssdo;
+mod progress;
+mod readback;
+mod ssdo_shading;
+mod timing;
+mod views;
 
 use clap::{Parser, Subcommand};
+use commands::{bench, eval, lights, render};
 use std::process::ExitCode;
 
 /// Screen-space ambient occlusion on any GPU wgpu reaches, or on the CPU through Mesa's
@@ -45,14 +46,7 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     let result = match cli.command {
-        // A depth map and a scene are two sources of the same AO input: depthmap.rs and
-        // render.rs share render.rs's arguments and timing.
-        Command::Render(args) => {
-            render::check_args(&args).and_then(|()| match (&args.depth, &args.intrinsics) {
-                (Some(depth), Some(intrinsics)) => depthmap::run(&args, depth, intrinsics),
-                _ => render::run(&args),
-            })
-        }
+        Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Lights(args) => lights::run(&args),

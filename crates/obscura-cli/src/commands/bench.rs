@@ -4,15 +4,15 @@
 //! dispatches) the wall clock around submit + wait of each pass. Medians and ratios to the
 //! first variant (the randomized single pass, or full resolution with `--compare resolutions`).
 
+use crate::options::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use crate::output::{check_png_path, fmt_ms, write_text};
-use crate::render::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
+use crate::timing::median;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use obscura::{Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
+use obscura::{Ao, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
 use obscura_scene::{default_scene, GBufferRenderer};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// What the variants of a benchmark differ in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -128,11 +128,6 @@ fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>> {
         .map(|t| t.trim().parse::<T>().ok())
         .collect::<Option<Vec<T>>>()
         .with_context(|| format!("{what} `{s}` is not a comma-separated list"))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 pub fn run(a: &BenchArgs) -> Result<()> {
@@ -264,31 +259,6 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         eprintln!("wrote {}", p.display());
     }
     Ok(())
-}
-
-/// One AO frame, run and timed: the sum of its passes' GPU timestamps on hardware adapters
-/// (the AO's own GPU time, what a budget is about; the wall clock there adds submission and
-/// wake-up latency of about half a millisecond, measured on an H100), else the wall clock
-/// around submit + wait (lavapipe, whose timestamps do not bracket dispatches).
-pub(crate) fn frame_ms(
-    ctx: &GpuContext,
-    ao: &mut Ao,
-    input: &AoInput<'_>,
-    params: &AoParams,
-    timing: Timing,
-) -> Result<f64> {
-    Ok(match timing {
-        Timing::Timestamps => ao
-            .run_timed(ctx, input, params, timing)?
-            .iter()
-            .map(|p| p.1)
-            .sum(),
-        Timing::WallClock => {
-            let t = Instant::now();
-            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, input, params))?;
-            t.elapsed().as_secs_f64() * 1e3
-        }
-    })
 }
 
 fn check_svg_path(p: &Path) -> Result<()> {

@@ -5,8 +5,10 @@
 //! and its error is stated against the all-lights image. Writes pictures and a markdown
 //! table when asked.
 
-use crate::eval::{camera_for, median, Job, ViewArgs};
 use crate::output::{fmt_ms, save_png, write_text};
+use crate::readback::read_rgb;
+use crate::timing::median;
+use crate::views::{camera_for, Job, ViewArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use glam::Vec3;
@@ -434,15 +436,6 @@ fn virtual_lights(mesh: &Mesh, count: u32, seed: u32, diagonal: f32) -> Vec<Poin
             }
         })
         .collect()
-}
-
-/// The texels of an `Rgba32Float` texture.
-pub(crate) fn read_rgb(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>> {
-    Ok(ctx
-        .read_f32(texture)?
-        .chunks_exact(4)
-        .map(|p| [p[0], p[1], p[2], p[3]])
-        .collect())
 }
 
 /// RMS of the rgb difference over the mean rgb magnitude of `want`, over `mask`.

@@ -9,6 +9,9 @@
 //! principal point, the default radius) are the library's one depth-map path,
 //! `obscura::depth_map`.
 
+use super::args::{options, params, NormalsFrame, RenderArgs};
+use super::record::record_timed;
+use crate::readback::read_bent_normals;
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -258,8 +261,6 @@ fn half_to_f32(h: u16) -> f32 {
     }
 }
 
-pub use obscura::depth_map::describe_noise;
-
 /// `--normals-file`: a (height, width, 3 or 4) float `.npy` or an RGB(A) float EXR of
 /// view-space normals in `frame`, `width` × `height`; returned in obscura's view space as
 /// RGBA rows (zero where a normal is missing or not finite), with the fraction of the
@@ -268,7 +269,7 @@ pub fn load_normals(
     path: &Path,
     width: u32,
     height: u32,
-    frame: crate::render::NormalsFrame,
+    frame: NormalsFrame,
 ) -> Result<(Vec<[f32; 4]>, f32)> {
     let (ext, bytes) = read_file(path, "normals")?;
     let (w, h, channels, values) = match ext.as_str() {
@@ -298,14 +299,14 @@ pub fn load_normals(
         bail!("the normals are {w}x{h} but the depth map is {width}x{height}");
     }
     let frame = match frame {
-        crate::render::NormalsFrame::Opencv => obscura::depth_map::NormalsFrame::OpenCv,
-        crate::render::NormalsFrame::Opengl => obscura::depth_map::NormalsFrame::OpenGl,
+        NormalsFrame::Opencv => obscura::depth_map::NormalsFrame::OpenCv,
+        NormalsFrame::Opengl => obscura::depth_map::NormalsFrame::OpenGl,
     };
     Ok(obscura::depth_map::view_normals(&values, channels, frame))
 }
 
 /// `obscura render --depth FILE --intrinsics JSON`.
-pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
+pub fn run(a: &RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
     use obscura::{Ao, AoInput, DepthConvention, GpuContext};
     let t0 = std::time::Instant::now();
     let text = std::fs::read_to_string(intrinsics)
@@ -366,10 +367,10 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
     let normal_tex = normals.map(|n| ctx.upload_rgba32("normal map", &n, pw, ph));
     let normal_view = normal_tex.map(|t| t.create_view(&Default::default()));
     let view = tex.create_view(&Default::default());
-    let options = crate::render::options(a);
+    let options = options(a);
     let params = obscura::AoParams {
         depth_noise,
-        ..crate::render::params(a, radius)
+        ..params(a, radius)
     };
     let mut ao = Ao::new(&ctx.device, options)?;
     let input = AoInput {
@@ -388,12 +389,12 @@ pub fn run(a: &crate::render::RenderArgs, depth_path: &Path, intrinsics: &Path) 
         options.estimator.name(),
         options.samples_per_pixel(),
     );
-    let out = crate::render::record_timed(a, &ctx, &mut ao, &input, &params)?;
+    let out = record_timed(a, &ctx, &mut ao, &input, &params)?;
     let cropped = framed.crop(&out)?;
     crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
     if let Some(path) = &a.bent_normals_out {
-        let (bent, w, h) = crate::render::read_bent_normals(&ctx, &ao)?;
+        let (bent, w, h) = read_bent_normals(&ctx, &ao)?;
         // Cropped like the AO where they share its size; below full resolution as they are
         // (the padding then stays in, at the working resolution).
         let (bent, w, h) = if (w, h) == (pw, ph) {

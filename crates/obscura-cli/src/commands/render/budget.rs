@@ -16,9 +16,11 @@ use obscura_scene::{Camera, GBuffer, GBufferRenderer, GpuMesh};
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::bench::frame_ms;
+use super::args::RenderArgs;
+use super::orbit::orbit_turn;
+use crate::options::NormalSource;
 use crate::output::{fmt_ms, save_ao};
-use crate::render::{orbit_turn, NormalSource, RenderArgs};
+use crate::timing::frame_ms;
 
 /// The ladder, from the most error to the least: working resolution and preset. The order
 /// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE

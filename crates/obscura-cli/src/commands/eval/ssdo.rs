@@ -1,81 +1,26 @@
-//! Screen-space directional occlusion in the CLI: `render --ssdo FILE --env ENV` writes a
-//! colour image, and `eval --ssdo --env ENV` judges it against the ray tracer extended to
-//! the same lighting (`obscura_eval::trace_ssdo_view`: the environment within the radius
-//! and one diffuse bounce), beside the usual `AO × E(n)` and no occlusion at all, in each
-//! layout, with each variant's cost timed interleaved (wall clock around submit + wait,
-//! after a warm-up, median).
+//! `eval --ssdo`: screen-space directional occlusion judged against the ray tracer
+//! extended to the same lighting (`obscura_eval::trace_ssdo_view`: the environment within
+//! the radius and one diffuse bounce), beside the usual `AO × E(n)` and no occlusion at
+//! all, in each layout, with each variant's cost timed interleaved (wall clock around
+//! submit + wait, after a warm-up, median).
 
-use crate::eval::{camera_for, median, EvalArgs, Job};
-use crate::output::{fmt_ms, save_png, write_text};
-use anyhow::{bail, Context, Result};
-use glam::Mat3;
+use super::args::EvalArgs;
+use super::pictures::shrink;
+use crate::output::{fmt_ms, write_text};
+use crate::progress::tenths;
+use crate::ssdo_shading::{inputs, lighting, parse_env, read_rgba, save_radiance};
+use crate::timing::median;
+use crate::views::{camera_for, Job};
+use anyhow::{Context, Result};
 use obscura::{
-    Ao, AoOptions, AoParams, Environment, EnvironmentMap, Estimator, GpuContext, IrradianceSh,
-    Ssdo, SsdoInputs, SsdoLighting, SsdoOptions,
+    Ao, AoOptions, AoParams, Environment, Estimator, GpuContext, IrradianceSh, Ssdo, SsdoOptions,
 };
 use obscura_eval::cache::{self, Fnv};
 use obscura_eval::{Bvh, Falloff, PixelSampling, ReferenceSsdo, TraceSettings};
-use obscura_scene::{Camera, GBuffer, GBufferRenderer, Mesh};
+use obscura_scene::{Camera, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-
-/// Parses `--env`: `sky` (a daylight gradient, `obscura::Environment::SKY`), `white` (a
-/// constant sky of 1), `gradient:R,G,B:R,G,B` (zenith, nadir), `constant:R,G,B`, or an
-/// equirectangular `.hdr` / `.exr` file.
-pub fn parse_env(s: &str) -> Result<Environment> {
-    let colour = |t: &str| -> Result<[f32; 3]> {
-        let v = crate::render::parse_floats(t, "--env colour")?;
-        match v.as_slice() {
-            &[r, g, b] => Ok([r, g, b]),
-            _ => bail!("--env colours need 3 numbers, got `{t}`"),
-        }
-    };
-    let env = match s {
-        "sky" => Environment::SKY,
-        "white" => Environment::Constant([1.0; 3]),
-        _ if s.starts_with("constant:") => Environment::Constant(colour(&s[9..])?),
-        _ if s.starts_with("gradient:") => {
-            let Some((sky, ground)) = s[9..].split_once(':') else {
-                bail!("--env gradient:R,G,B:R,G,B needs two colours, got `{s}`");
-            };
-            Environment::Gradient {
-                sky: colour(sky)?,
-                ground: colour(ground)?,
-            }
-        }
-        _ => Environment::Map(load_map(Path::new(s))?),
-    };
-    env.validate()?;
-    Ok(env)
-}
-
-/// An equirectangular map from a Radiance `.hdr` or OpenEXR `.exr` file (row 0 at the
-/// zenith, the left edge toward +x, columns turning toward +z; negative texels, which
-/// filtered HDR images can hold, are clamped to 0).
-fn load_map(path: &Path) -> Result<EnvironmentMap> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    if ext != "hdr" && ext != "exr" {
-        bail!(
-            "--env `{}` is neither sky, white, constant:R,G,B, gradient:R,G,B:R,G,B nor a .hdr \
-             or .exr equirectangular map",
-            path.display()
-        );
-    }
-    let image = image::open(path)
-        .with_context(|| format!("cannot read the environment map `{}`", path.display()))?
-        .into_rgb32f();
-    let (w, h) = image.dimensions();
-    let texels = image
-        .pixels()
-        .map(|p| p.0.map(|v| if v < 0.0 { 0.0 } else { v }))
-        .collect();
-    Ok(EnvironmentMap::new(w, h, texels)?)
-}
 
 /// The environment's identity for the reference cache.
 fn env_hash(env: &Environment, f: &mut Fnv) {
@@ -90,103 +35,6 @@ fn env_hash(env: &Environment, f: &mut Fnv) {
             f
         }
     };
-}
-
-/// The camera's view-to-world rotation and the environment's harmonics (computed once per
-/// environment: `Environment::irradiance_sh`).
-pub fn lighting(irradiance: &IrradianceSh, cam: &Camera) -> SsdoLighting {
-    SsdoLighting {
-        irradiance: *irradiance,
-        view_to_world: Mat3::from_mat4(cam.view_matrix().inverse()).to_cols_array_2d(),
-    }
-}
-
-/// Runs SSDO after `ao`'s last frame (full resolution) and returns its radiance (rgb).
-#[allow(clippy::too_many_arguments)]
-pub fn shade(
-    ctx: &GpuContext,
-    ao: &Ao,
-    gbuffer: &GBuffer,
-    frame: &obscura::uniforms::FrameUniforms,
-    lighting: &SsdoLighting,
-    options: SsdoOptions,
-    runs: u32,
-) -> Result<(Vec<[f32; 3]>, f64)> {
-    let mut ssdo = Ssdo::new(&ctx.device, options)?;
-    let inputs = inputs(ao, gbuffer)?;
-    let mut times = Vec::new();
-    for round in 0..=runs {
-        let t = Instant::now();
-        ctx.run(|enc| ssdo.record(&ctx.device, &ctx.queue, enc, inputs, frame, lighting))?;
-        if round > 0 {
-            times.push(t.elapsed().as_secs_f64() * 1e3);
-        }
-    }
-    Ok((
-        read_rgb(ctx, ssdo.output().context("no SSDO output")?)?,
-        median(times),
-    ))
-}
-
-/// SSDO's inputs from an AO plan at full resolution and the G-buffer's albedo.
-fn inputs<'a>(ao: &'a Ao, gbuffer: &'a GBuffer) -> Result<SsdoInputs<'a>> {
-    let prepared = ao
-        .prepared_source()
-        .context("SSDO reads the AO's full-resolution depth and normals: use --resolution full")?;
-    Ok(SsdoInputs {
-        prepared,
-        albedo: &gbuffer.albedo,
-        ao: ao.output().context("no AO output")?,
-        bent: ao.bent_normals(),
-    })
-}
-
-fn read_rgb(ctx: &GpuContext, t: &wgpu::Texture) -> Result<Vec<[f32; 3]>> {
-    Ok(read_rgba(ctx, t)?.0)
-}
-
-/// The rgb of an SSDO output, and where its alpha marks a surface.
-fn read_rgba(ctx: &GpuContext, t: &wgpu::Texture) -> Result<(Vec<[f32; 3]>, Vec<bool>)> {
-    let v = crate::lights::read_rgb(ctx, t)?;
-    Ok((
-        v.iter().map(|c| [c[0], c[1], c[2]]).collect(),
-        v.iter().map(|c| c[3] > 0.0).collect(),
-    ))
-}
-
-/// Linear radiance → 8-bit sRGB (clamped at 1; sky black).
-pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
-    rgb.iter()
-        .flatten()
-        .map(|&v| {
-            let v = v.clamp(0.0, 1.0);
-            let s = if v <= 0.003_130_8 {
-                12.92 * v
-            } else {
-                1.055 * v.powf(1.0 / 2.4) - 0.055
-            };
-            (s * 255.0).round() as u8
-        })
-        .collect()
-}
-
-/// Writes radiance as an sRGB PNG, or linear float RGB for `.exr`.
-pub fn save_radiance(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32) -> Result<()> {
-    let exr = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if exr {
-        let bytes: Vec<u8> = rgb.iter().flatten().flat_map(|v| v.to_ne_bytes()).collect();
-        return crate::output::save_image(
-            path,
-            &bytes,
-            w,
-            h,
-            image::ExtendedColorType::Rgb32F,
-            image::ImageFormat::OpenExr,
-        );
-    }
-    save_png(path, &srgb8(rgb), w, h, image::ExtendedColorType::Rgb8)
 }
 
 /// The SSDO reference of one view, from the cache or traced (with progress).
@@ -238,7 +86,7 @@ fn reference(
         cam,
         (w, h),
         settings,
-        &crate::eval::tenths(&label, t),
+        &tenths(&label, t),
     );
     eprintln!(
         "  reference: {w}x{h} × {} rays in {:.1} s",
@@ -350,7 +198,7 @@ fn errors(got: &[[f32; 3]], want: &[[f32; 3]], mask: &[bool]) -> (f64, f64) {
 /// `eval --ssdo`: every view, every `--modes` layout (GTAO with bent normals at the preset,
 /// the library's default denoiser), the variants of [`Variant`] against the traced
 /// reference.
-pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
+pub(super) fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
     let env = parse_env(&a.env)?;
     let irradiance = env.irradiance_sh();
     let ctx = GpuContext::new()?;
@@ -523,7 +371,7 @@ pub fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
 
 /// Writes `rgb` (w × h) as an sRGB PNG shrunk by `scale` (box filter).
 fn save_scaled(path: &Path, rgb: &[[f32; 3]], w: u32, h: u32, scale: f32) -> Result<()> {
-    let (small, sw, sh) = crate::eval::shrink(rgb, w, h, scale);
+    let (small, sw, sh) = shrink(rgb, w, h, scale);
     save_radiance(path, &small, sw, sh)
 }
 

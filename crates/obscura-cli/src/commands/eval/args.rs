@@ -1,0 +1,328 @@
+//! The arguments of `obscura eval` (`EvalArgs`, with the choices of falloff, truth, sensor
+//! and depth noise), the sample-split parser, and the checks that need no file or GPU.
+
+use crate::options::{
+    parse_denoise, parse_downsample, parse_resolution, parse_upsampler, EstimatorArg, ModeArg,
+    NormalSource, PresetArg, SampleArgs,
+};
+use crate::views::ViewArgs;
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use obscura::{Denoise, DepthDownsample, Resolution, Upsampler};
+use std::path::PathBuf;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FalloffArg {
+    /// Any hit within the radius occludes (the usual definition of AO).
+    None,
+    /// A hit at distance t occludes by 1 − t²/R² (HBAO's weight).
+    Quadratic,
+}
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub views: ViewArgs,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 400)]
+    pub height: u32,
+    /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// Rays per pixel of the ray-traced reference.
+    #[arg(long, default_value_t = 256)]
+    pub rays: u32,
+    /// How the reference weighs a hit within the radius.
+    #[arg(long, value_enum, default_value_t = FalloffArg::None)]
+    pub falloff: FalloffArg,
+    /// Estimators to evaluate (comma-separated).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "gtao,hbao,vo,vao,sao,vo-area"
+    )]
+    pub estimators: Vec<EstimatorArg>,
+    #[command(flatten)]
+    pub samples: SampleArgs,
+    /// Sample splits to compare in one run, timed interleaved (comma-separated
+    /// DIRECTIONSxSTEPS, e.g. 4x4,4x8,2x8); each runs with every estimator, mode, resolution
+    /// and denoiser. Overrides --preset, --directions and --steps.
+    #[arg(long, value_parser = parse_split, value_delimiter = ',')]
+    pub splits: Vec<(u32, u32)>,
+    /// Quality presets to compare in one run (comma-separated, e.g. low,medium,high,ultra);
+    /// each runs with every estimator, mode, resolution and denoiser, and the report's
+    /// frontier shows which choices give the least error for their time. Overrides
+    /// --preset, --directions and --steps.
+    #[arg(long, value_enum, value_delimiter = ',', conflicts_with = "splits")]
+    pub presets: Vec<PresetArg>,
+    /// Pass layouts to evaluate (comma-separated); every estimator runs in every mode.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "randomized,deinterleaved2,deinterleaved4"
+    )]
+    pub modes: Vec<ModeArg>,
+    /// AO resolutions (comma-separated); below full, every downsample rule × upsampler ×
+    /// denoise choice listed runs.
+    #[arg(long, value_parser = parse_resolution, value_delimiter = ',', default_value = "full")]
+    pub resolutions: Vec<Resolution>,
+    /// Working scales of the continuous resolution (`Resolution::Scaled`, comma-separated,
+    /// each in [0.25, 1]): each runs as a variant "… scaled S" with the bilateral upsampler
+    /// and the --denoise choices it takes (none, spatial); estimators with depth mips (SAO,
+    /// VO's area integral) are left out.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub scales: Vec<f32>,
+    /// Depth downsampling rules for the low resolutions (comma-separated).
+    #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
+    pub downsamples: Vec<DepthDownsample>,
+    /// Upsamplers for the low resolutions (comma-separated).
+    #[arg(long, value_parser = parse_upsampler, value_delimiter = ',', default_value = "bilateral")]
+    pub upsamplers: Vec<Upsampler>,
+    /// Denoise choices (comma-separated; at full resolution too).
+    #[arg(long, value_parser = parse_denoise, value_delimiter = ',', default_value = "none")]
+    pub denoise: Vec<Denoise>,
+    /// Leave the per-view picture sections out of the report (tables and plot only).
+    #[arg(long)]
+    pub no_pictures: bool,
+    /// Where the estimator's normals come from. Default: the G-buffer's, or reconstructed
+    /// from the depth with --sensor (a depth camera gives none). `--sensor S --normals
+    /// gbuffer` gives the sensor-like depth the G-buffer's exact normals: what the noise
+    /// costs when the normals come from elsewhere (a dataset's, or `render --normals-file`).
+    #[arg(long, value_enum)]
+    pub normals: Option<NormalSource>,
+    /// Timed runs per mode after a warm-up (interleaved across modes); the median is reported.
+    #[arg(long, default_value_t = 5)]
+    pub runs: u32,
+    /// Folder for the report's pictures; created if missing.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// The report's markdown file (default: DIR/index.md). Pictures are linked relative to it.
+    #[arg(long, value_name = "FILE", requires = "report")]
+    pub markdown: Option<PathBuf>,
+    /// Pictures are written at this fraction of the evaluated size (box filter).
+    #[arg(long, default_value_t = 0.5)]
+    pub picture_scale: f32,
+    /// Machine-readable results: one record per view and mode.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Skip the screen-space references (each estimator's integral brute-forced with 64 × 64
+    /// samples and no jitter; slow on a CPU adapter).
+    #[arg(long)]
+    pub no_screen_reference: bool,
+    /// Cache folder for ray-traced references.
+    #[arg(long, default_value = ".obscura-cache")]
+    pub cache: PathBuf,
+    /// Also score the bent normals of GTAO and HBAO (their single-frame variants, run once more with bent
+    /// normals on, untimed; not after box/tent below full resolution) against the ray tracer's: the mean angle to the
+    /// traced bent normal, over all pixels and over occluded ones (traced AO < 0.9), beside
+    /// the surface normal's angle to it (what a renderer without bent normals uses).
+    #[arg(long)]
+    pub bent_normals: bool,
+    /// Temporal accumulation (comma-separated counts, timed interleaved: `1,8` puts single
+    /// frames and 8 accumulated frames in one frontier): each count N runs every variant; for
+    /// N > 1 with a history (--history), scored after N frames of a still camera;
+    /// also reported: the mean absolute frame-to-frame change after them, and an orbit of N
+    /// frames (--orbit-step degrees apart) ending at the view, scored by how long each
+    /// pixel has been visible. The frontier ranks an accumulated variant by the worse of its
+    /// still and orbit RMSE.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    pub frames: Vec<u32>,
+    /// Most frames the temporal history averages (with --frames > 1), 2..=256.
+    #[arg(long, default_value_t = 16)]
+    pub history: u32,
+    /// Evaluate on sensor-like depth made from each view's clean depth (the view scaled so
+    /// its farthest surface is 5 m; see obscura_eval::sensor), with normals reconstructed
+    /// from it unless --normals says otherwise; the truth is the clean scene's.
+    #[arg(long, value_enum, default_value_t = SensorArg::None)]
+    pub sensor: SensorArg,
+    /// Scales the --sensor's random noise (0: its quantisation alone), not the model that
+    /// `--depth-noise known` gives: with 0 and `known`, what the noise treatment costs on
+    /// depth without noise.
+    #[arg(long, default_value_t = 1.0)]
+    pub sensor_noise: f32,
+    /// The depth noise model obscura is given: `auto` estimates it from --sensor depth (as
+    /// `render --depth` does by default) and gives none for rendered depth (as a renderer
+    /// passing its own depth buffer does); `estimate` estimates it from either.
+    #[arg(long, value_enum, default_value_t = NoiseArg::Auto)]
+    pub depth_noise: NoiseArg,
+    /// Degrees the orbit turns per frame (with --frames > 1).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub orbit_step: f32,
+    /// Give obscura the view's depth rasterized with 4× MSAA (resolved by obscura; normals
+    /// reconstructed from it) instead of single-sampled depth. Single frames only.
+    #[arg(long, conflicts_with = "sensor")]
+    pub msaa: bool,
+    /// Where the reference's primary rays go: `centre` (the pixel centre, where single-
+    /// sampled depth is taken) or `msaa4` (the four 4× MSAA sample positions, a quarter of
+    /// the rays each, averaged: the AO a 4× MSAA image resolves to; judges --msaa and
+    /// single-sampled depth against the same truth).
+    #[arg(long, value_enum, default_value_t = TruthArg::Centre)]
+    pub truth: TruthArg,
+    /// Evaluate screen-space directional occlusion instead of AO: GTAO with bent normals
+    /// in each --modes layout (the library's default denoiser), then the environment
+    /// through the bent cone with and without the one-bounce pass, beside AO × E(n) and no
+    /// occlusion, against the ray tracer extended to --env and one diffuse bounce (albedo
+    /// from the scene's materials). RMSE of linear radiance; each variant timed. Runs GTAO
+    /// at --preset (or --directions/--steps) with the library's default denoiser at full
+    /// resolution: --estimators, --resolutions and --denoise do not apply.
+    #[arg(long, conflicts_with_all = ["sensor", "msaa", "bent_normals"])]
+    pub ssdo: bool,
+    /// The environment of --ssdo: sky (a daylight gradient), white, constant:R,G,B,
+    /// gradient:R,G,B:R,G,B (zenith, nadir), or an equirectangular .hdr or .exr file (row 0
+    /// the zenith, +y; the left edge facing +x, columns turning toward +z).
+    #[arg(long, default_value = "sky", requires = "ssdo")]
+    pub env: String,
+    /// --ssdo: multiply every surface's albedo by this (0..=1). The shared scenes name no
+    /// materials, so their surfaces are white (glTF's default); 0.5 is closer to real ones.
+    #[arg(long, default_value_t = 1.0, requires = "ssdo")]
+    pub albedo_scale: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TruthArg {
+    /// Primary rays through pixel centres.
+    Centre,
+    /// Primary rays through the 4× MSAA sample positions, averaged.
+    Msaa4,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SensorArg {
+    /// The clean rendered depth.
+    None,
+    /// Axial noise σ = 1.5 mm · z², millimetre steps.
+    Kinect,
+    /// Stereo disparity noise and quantisation.
+    Stereo,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NoiseArg {
+    /// Estimated from --sensor depth; none for rendered depth.
+    Auto,
+    /// Estimated from the depth (obscura::DepthNoise::estimate).
+    Estimate,
+    /// None: obscura treats the depth as clean.
+    None,
+    /// The simulated sensor's own σ(z) (with --sensor).
+    Known,
+}
+
+/// Parses a sample split `DIRECTIONSxSTEPS` (`4x8`); the ranges are checked by `Ao::new`.
+pub(super) fn parse_split(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected DIRECTIONSxSTEPS such as 4x8, got `{s}`");
+    let (d, st) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    Ok((
+        d.trim().parse().map_err(|_| bad())?,
+        st.trim().parse().map_err(|_| bad())?,
+    ))
+}
+
+impl EvalArgs {
+    /// `--normals`, or its default: the G-buffer's, reconstructed with `--sensor`.
+    pub(super) fn normal_source(&self) -> NormalSource {
+        self.normals.unwrap_or(match self.sensor {
+            SensorArg::None => NormalSource::Gbuffer,
+            _ => NormalSource::Reconstruct,
+        })
+    }
+
+    /// Whether some `--frames` count accumulates (is above 1).
+    pub(super) fn temporal_run(&self) -> bool {
+        self.frames.iter().any(|&f| f > 1)
+    }
+}
+
+/// Validates the arguments that need no file or GPU (those of --ssdo are checked once the
+/// views are known).
+pub(super) fn check(a: &EvalArgs) -> Result<()> {
+    if a.width == 0 || a.height == 0 || a.width > 8192 || a.height > 8192 {
+        bail!(
+            "--width and --height must be in 1..=8192 (got {}x{})",
+            a.width,
+            a.height
+        );
+    }
+    if a.rays == 0 || a.rays > 65536 {
+        bail!("--rays must be in 1..=65536 (got {})", a.rays);
+    }
+    if a.truth == TruthArg::Msaa4 && !a.rays.is_multiple_of(4) {
+        bail!(
+            "--truth msaa4 traces a quarter of the rays through each of 4 sample positions: \
+             --rays must be a multiple of 4 (got {})",
+            a.rays
+        );
+    }
+    if a.runs == 0 || a.runs > 1000 {
+        bail!("--runs must be in 1..=1000");
+    }
+    if !(a.picture_scale > 0.0 && a.picture_scale <= 1.0) {
+        bail!("--picture-scale must be in (0, 1]");
+    }
+    if let Some(r) = a.radius {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--radius must be a finite number > 0 (got {r})");
+        }
+    }
+    if !(0.0..=10.0).contains(&a.sensor_noise) {
+        bail!("--sensor-noise must be in 0..=10 (got {})", a.sensor_noise);
+    }
+    if a.sensor_noise != 1.0 && a.sensor == SensorArg::None {
+        bail!("--sensor-noise needs --sensor");
+    }
+    if let Some(f) = a.frames.iter().find(|f| !(1..=1000).contains(*f)) {
+        bail!("--frames must each be in 1..=1000 (got {f})");
+    }
+    if a.frames.is_empty() {
+        bail!("--frames needs at least one count");
+    }
+    let temporal_run = a.temporal_run();
+    if temporal_run && !(2..=256).contains(&a.history) {
+        bail!("--history must be in 2..=256 (got {})", a.history);
+    }
+    if a.sensor != SensorArg::None && temporal_run {
+        bail!(
+            "--sensor evaluates single frames (its noise is drawn once, and the orbit \
+             rasterizes clean depth)"
+        );
+    }
+    if a.msaa && temporal_run {
+        bail!("--msaa evaluates single frames (the orbit rasterizes single-sampled depth)");
+    }
+    if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
+        bail!(
+            "--orbit-step must be degrees within ±90 (got {})",
+            a.orbit_step
+        );
+    }
+    if a.modes.is_empty() || a.estimators.is_empty() {
+        bail!("--modes and --estimators need at least one value each");
+    }
+    if let Some(s) = a
+        .scales
+        .iter()
+        .find(|s| !(obscura::MIN_SCALE..=1.0).contains(*s))
+    {
+        bail!("--scales must each be in [0.25, 1] (got {s})");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_split;
+
+    #[test]
+    fn splits_parse_and_refuse_what_is_not_a_split() {
+        assert_eq!(parse_split("4x8"), Ok((4, 8)));
+        assert_eq!(parse_split("2×16"), Ok((2, 16)));
+        for bad in ["4", "x8", "4x", "ax8", "4x8x2", "-1x4"] {
+            assert!(parse_split(bad).is_err(), "`{bad}` parsed");
+        }
+    }
+}

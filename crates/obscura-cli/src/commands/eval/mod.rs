@@ -1,0 +1,603 @@
+//! `obscura eval`: AO from each pass layout against ray-traced ground truth, on a scene
+//! file or the standard views of the shared scenes. Writes a markdown report with
+//! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
+//!
+//! `run` is the evaluation itself; the arguments are in `args`, the variants in `variants`,
+//! the figures of one variant on one view in `rows`, and the report in `report`,
+//! `frontier`, `plots` and `pictures`; `--sensor` depth is made in `sensor_depth`, and
+//! `--ssdo` runs `ssdo` instead.
+
+mod args;
+mod frontier;
+mod pictures;
+mod plots;
+mod report;
+mod rows;
+mod sensor_depth;
+mod ssdo;
+mod variants;
+
+pub use args::EvalArgs;
+
+use args::{check, FalloffArg, NoiseArg, SensorArg, TruthArg};
+use frontier::{frontier_table, variant_means};
+use pictures::{write_error, write_gray};
+use plots::{frontier_plot, scatter};
+use report::{
+    bent_table, json, mixed_summary, relative_dir, sampling_bias_table, summary_table,
+    temporal_table,
+};
+use rows::{bent_error, Row, TemporalFigures};
+use sensor_depth::{linear_depth, sensor_depth};
+use variants::{variant_list, Variants};
+
+use crate::options::NormalSource;
+use crate::output::{check_png_path, fmt_ms, write_text};
+use crate::progress::tenths;
+use crate::timing::{frame_ms, median};
+use crate::views::{camera_for, Job};
+use anyhow::{bail, Context, Result};
+use obscura::{Ao, AoOptions, AoParams, Estimator, GpuContext, Resolution, Timing};
+use obscura_eval::{cache, metrics, sensor, Bvh, Falloff, PixelSampling, TraceSettings};
+use obscura_scene::{Camera, GBufferRenderer, Mesh};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
+    a.views
+        .jobs()?
+        .context("choose what to evaluate: --scene FILE, --view NAME or --all")
+}
+
+pub fn run(a: &EvalArgs) -> Result<()> {
+    check(a)?;
+    let temporal_run = a.temporal_run();
+    let jobs = jobs(a)?;
+    if a.ssdo {
+        if temporal_run || a.falloff != FalloffArg::None || a.truth != TruthArg::Centre {
+            bail!("--ssdo evaluates single frames against centre-sampled truth without falloff");
+        }
+        if !(0.0..=1.0).contains(&a.albedo_scale) {
+            bail!("--albedo-scale must be in 0..=1 (got {})", a.albedo_scale);
+        }
+        return ssdo::evaluate(a, &jobs);
+    }
+    if let Some(dir) = &a.report {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+    }
+    let md_path = a
+        .report
+        .as_ref()
+        .map(|d| a.markdown.clone().unwrap_or_else(|| d.join("index.md")));
+    if let Some(p) = &md_path {
+        check_png_path(&p.with_extension("png"))?;
+    }
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let raster = GBufferRenderer::new(&ctx.device);
+    let Variants {
+        list: variants,
+        scales,
+        frames_of,
+        orbit_frames,
+    } = variant_list(a)?;
+    let mut aos: Vec<Ao> = variants
+        .iter()
+        .map(|(_, o)| Ao::new(&ctx.device, *o))
+        .collect::<Result<_, _>>()?;
+    let mut estimators: Vec<Estimator> = Vec::new();
+    for &e in &a.estimators {
+        if !estimators.contains(&e.into()) {
+            estimators.push(e.into());
+        }
+    }
+    let mut screen_aos: Vec<(Estimator, Ao)> = if a.no_screen_reference {
+        Vec::new()
+    } else {
+        estimators
+            .iter()
+            .map(|&e| Ok((e, Ao::new(&ctx.device, AoOptions::screen_reference(e))?)))
+            .collect::<Result<_, obscura::Error>>()?
+    };
+    let (w, h) = (a.width, a.height);
+    let mut rows = Vec::new();
+    let mut sections = String::new();
+    let mut info = Vec::new();
+    for job in &jobs {
+        let t0 = Instant::now();
+        let bytes = std::fs::read(&job.file)
+            .with_context(|| format!("cannot read scene `{}`", job.file.display()))?;
+        let mesh = Mesh::load(&job.file)
+            .with_context(|| format!("cannot load scene `{}`", job.file.display()))?;
+        let cam = camera_for(job, &mesh)?;
+        let bounds = mesh.bounds().context("the scene has no triangles")?;
+        let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+        let settings = TraceSettings {
+            radius,
+            rays: a.rays,
+            falloff: match a.falloff {
+                FalloffArg::None => Falloff::None,
+                FalloffArg::Quadratic => Falloff::Quadratic,
+            },
+            sampling: match a.truth {
+                TruthArg::Centre => PixelSampling::Centre,
+                TruthArg::Msaa4 => PixelSampling::Msaa4,
+            },
+        };
+        eprintln!(
+            "{}: {} triangles, radius {radius:.3}",
+            job.name,
+            mesh.triangle_count()
+        );
+
+        // Ground truth, cached.
+        let key = cache::key(&bytes, &cam, w, h, &settings);
+        let cpath = cache::path(&a.cache, key);
+        let reference = match cache::load(&cpath, w, h) {
+            Some(r) => {
+                eprintln!("  reference: cached ({})", cpath.display());
+                r
+            }
+            None => {
+                let t = Instant::now();
+                let bvh = Bvh::new(obscura_eval::triangles(&mesh));
+                let r =
+                    obscura_eval::trace_view(&bvh, &cam, w, h, &settings, &tenths("reference", t));
+                eprintln!(
+                    "  reference: {}x{} × {} rays in {:.1} s, mean standard error {:.4}",
+                    w,
+                    h,
+                    a.rays,
+                    t.elapsed().as_secs_f64(),
+                    r.mean_std_error
+                );
+                if let Err(e) = cache::store(&cpath, &r) {
+                    eprintln!("  warning: could not cache the reference: {e}");
+                }
+                r
+            }
+        };
+        info.push((
+            job.name.clone(),
+            radius,
+            reference.mean_std_error,
+            mesh.triangle_count(),
+        ));
+
+        // Screen-space AO in each mode, timed interleaved.
+        let gpu_mesh = raster.upload(&ctx, &mesh)?;
+        let g = raster.render(&ctx, &gpu_mesh, &cam, w, h)?;
+        let msaa = if a.msaa {
+            Some(raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, w, h)?)
+        } else {
+            None
+        };
+        let mut input = match &msaa {
+            Some(m) => m.ao_input(&cam),
+            None => g.ao_input(&cam, a.normal_source() == NormalSource::Gbuffer),
+        };
+        let noisy = match a.sensor {
+            SensorArg::None => None,
+            SensorArg::Kinect => Some(sensor::Sensor::Kinect),
+            SensorArg::Stereo => Some(sensor::Sensor::Stereo),
+        }
+        .map(|s| sensor_depth(&ctx, &g, &input, s, a.sensor_noise))
+        .transpose()?;
+        let mut params = AoParams {
+            radius,
+            ..Default::default()
+        };
+        if let Some(s) = &noisy {
+            input.depth = &s.view;
+            input.convention = obscura::DepthConvention::LinearView;
+            if a.depth_noise == NoiseArg::Known {
+                params.depth_noise = s.known;
+            }
+        }
+        if a.depth_noise == NoiseArg::Estimate
+            || (a.depth_noise == NoiseArg::Auto && noisy.is_some())
+        {
+            let depth = match &noisy {
+                Some(s) => std::borrow::Cow::Borrowed(&s.depth),
+                None => std::borrow::Cow::Owned(linear_depth(&ctx, &g, &input)?),
+            };
+            // An integer encoding (Kinect-like millimetres) is known to the estimate, as
+            // `render --depth` knows it of a 16-bit PNG.
+            let quantum = noisy.as_ref().and_then(|s| s.quantum);
+            let e = obscura::DepthNoise::estimate(&depth, w, h, &input.projection, quantum)?;
+            params.depth_noise = e.model;
+            eprintln!(
+                "  depth noise: estimated {} (σ up to {:.3} px){}",
+                obscura::depth_map::describe_noise(&e.model),
+                e.sigma_px,
+                match &noisy {
+                    Some(s) => format!(
+                        "; the sensor's {}",
+                        obscura::depth_map::describe_noise(&s.known)
+                    ),
+                    None => String::new(),
+                }
+            );
+        }
+        let mut times = vec![Vec::new(); aos.len()];
+        let timing = Timing::best_for(&ctx);
+        for round in 0..=a.runs {
+            for (i, ao) in aos.iter_mut().enumerate() {
+                let p = AoParams {
+                    scale: scales[i],
+                    ..params
+                };
+                let ms = frame_ms(&ctx, ao, &input, &p, timing)?;
+                if round > 0 {
+                    times[i].push(ms);
+                }
+            }
+        }
+        let gpu_depth = ctx.read_f32(&g.depth)?;
+        // Compare where both see a surface.
+        let mask: Vec<bool> = reference
+            .depth
+            .iter()
+            .zip(&gpu_depth)
+            .map(|(r, g)| *r > 0.0 && *g < 1.0)
+            .collect();
+        let band: Vec<bool> =
+            metrics::discontinuity_band(&reference.depth, w as usize, h as usize, 0.05, 2)
+                .into_iter()
+                .zip(&mask)
+                .map(|(b, m)| b && *m)
+                .collect();
+        // Temporal accumulation: N frames of the still camera, one more for the flicker,
+        // then an orbit of N frames ending at this camera.
+        let mut temporal: Vec<Option<TemporalFigures>> = vec![None; aos.len()];
+        let mut still_images: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
+        let mut orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>> = vec![None; aos.len()];
+        if orbit_frames > 1 {
+            for (i, ao) in aos.iter_mut().enumerate() {
+                if frames_of[i] == 1 {
+                    continue;
+                }
+                ao.reset_history();
+                let p = AoParams {
+                    scale: scales[i],
+                    ..params
+                };
+                for _ in 0..frames_of[i] {
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
+                }
+                let still = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
+                let next = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                let flicker = metrics::mean_abs_diff(&still, &next, &mask);
+                temporal[i] = Some(TemporalFigures {
+                    frames: frames_of[i],
+                    flicker,
+                    orbit_rmse: 0.0,
+                    disoccluded: None,
+                });
+                still_images[i] = Some(still);
+            }
+            // One orbit of the longest count, rasterized once; a variant of N frames joins
+            // it N frames before its end, with a cut.
+            let mut previous: Option<Camera> = None;
+            for k in 0..orbit_frames {
+                let c = cam.orbit(a.orbit_step * (k as f32 - (orbit_frames - 1) as f32));
+                let gk = raster.render(&ctx, &gpu_mesh, &c, w, h)?;
+                let ik = gk.ao_input(&c, a.normal_source() == NormalSource::Gbuffer);
+                for (i, ao) in aos.iter_mut().enumerate() {
+                    let first = orbit_frames - frames_of[i];
+                    if frames_of[i] == 1 || k < first {
+                        continue;
+                    }
+                    let motion = match previous {
+                        Some(p) if k > first => c.motion_since(&p),
+                        _ => obscura::CameraMotion::Cut,
+                    };
+                    let p = AoParams {
+                        scale: scales[i],
+                        motion,
+                        ..params
+                    };
+                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
+                }
+                previous = Some(c);
+            }
+            for (i, ao) in aos.iter().enumerate().filter(|(i, _)| frames_of[*i] > 1) {
+                let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+                // The history's frame counts at full resolution (the working texel whose
+                // footprint holds the pixel). A scaled history is on the working grid of
+                // a texture created at full size.
+                let hist = ctx.read_f32(ao.history().context("history missing")?)?;
+                let scaled = ao.options().resolution == Resolution::Scaled;
+                let f = ao.options().resolution.factor();
+                let hw = w.div_ceil(f);
+                let texel = |c: u32| {
+                    if scaled {
+                        ((c as f32 + 0.5) * scales[i]) as u32
+                    } else {
+                        c / f
+                    }
+                };
+                let frames: Vec<f32> = (0..(w * h))
+                    .map(|p| {
+                        let (x, y) = (texel(p % w), texel(p / w));
+                        hist[((y * hw + x) * 4 + 1) as usize]
+                    })
+                    .collect();
+                orbit_images[i] = Some((out, frames));
+            }
+        }
+        let mut screen = Vec::new();
+        for (e, ao) in screen_aos.iter_mut() {
+            let t = Instant::now();
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
+            eprintln!(
+                "  {} screen-space reference: {:.1} s",
+                e.name(),
+                t.elapsed().as_secs_f64()
+            );
+            screen.push((*e, out));
+        }
+        let screen_of = |e: Estimator| screen.iter().find(|s| s.0 == e).map(|s| &s.1);
+        let white = vec![1.0f32; (w * h) as usize];
+        // (label, estimator, mode, image, time, options)
+        type Result5 = (
+            String,
+            String,
+            String,
+            Vec<f32>,
+            Option<f64>,
+            Option<AoOptions>,
+        );
+        let mut results: Vec<Result5> = vec![(
+            "white (no AO)".into(),
+            "none".into(),
+            String::new(),
+            white,
+            None,
+            None,
+        )];
+        for (e, img) in &screen {
+            results.push((
+                format!("{} screen-space reference", e.name()),
+                e.name().into(),
+                "screen-reference".into(),
+                img.clone(),
+                None,
+                None,
+            ));
+        }
+        for (i, ao) in aos.iter().enumerate() {
+            let out = match still_images[i].take() {
+                Some(img) => img,
+                None => ctx.read_f32(ao.output().context("AO output missing")?)?,
+            };
+            if let (Some(t), Some((orbit, frames))) = (temporal[i].as_mut(), &orbit_images[i]) {
+                t.orbit_rmse = metrics::rmse(orbit, &reference.ao, &mask);
+                // Visible for 4 frames before the last: a history of 5 frames.
+                let young: Vec<bool> = frames
+                    .iter()
+                    .zip(&mask)
+                    .map(|(f, m)| *m && (*f - 5.0).abs() < 0.5)
+                    .collect();
+                let count = young.iter().filter(|y| **y).count();
+                // Only an orbit longer than 5 frames (and a history longer than 5) tells
+                // those pixels from the ones seen since its first frame.
+                if count > 0 && t.frames > 5 && a.history > 5 {
+                    t.disoccluded = Some((
+                        metrics::rmse(orbit, &reference.ao, &young),
+                        metrics::rmse(&out, &reference.ao, &young),
+                        count,
+                    ));
+                }
+            }
+            let o = variants[i].1;
+            results.push((
+                variants[i].0.clone(),
+                o.estimator.name().into(),
+                o.mode.name().into(),
+                out,
+                Some(median(times[i].clone())),
+                Some(o),
+            ));
+        }
+        // Bent normals of GTAO's and HBAO's single-frame variants (untimed; unfused, which is the same
+        // work, so that the prepared normals can be read back), where they come out at full
+        // resolution (not after box/tent filtering below it).
+        let mut bent_of = std::collections::HashMap::new();
+        for (label, o) in variants.iter().filter(|(_, o)| {
+            a.bent_normals
+                && o.estimator.has_bent_normals()
+                && (o.resolution == obscura::Resolution::Full || !o.denoise.downsamples())
+                && o.resolution != obscura::Resolution::Scaled
+                && o.history == 0
+        }) {
+            let mut b = Ao::new(
+                &ctx.device,
+                AoOptions {
+                    bent_normals: true,
+                    fused: false,
+                    ..*o
+                },
+            )?;
+            ctx.run(|enc| b.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let bent = ctx.read_f32(b.bent_normals().context("bent normals missing")?)?;
+            let prepared = b.prepared_view().context("prepared buffer missing")?;
+            let prepared = ctx.read_f32(prepared.texture())?;
+            let e = bent_error(&bent, &prepared, &reference, &mask);
+            eprintln!(
+                "  {label}: bent normals {:.1}° from the traced ones ({:.1}° where occluded), \
+                 the surface normal {:.1}° ({:.1}°)",
+                e.bent, e.bent_occluded, e.normal, e.normal_occluded
+            );
+            bent_of.insert(label.clone(), e);
+        }
+        let r = &reference.ao;
+        // The full-resolution result of the same estimator, mode and samples, if evaluated.
+        let full_of = |o: &AoOptions| {
+            results.iter().find_map(|r| {
+                r.5.filter(|f| {
+                    f.direct()
+                        && f.estimator == o.estimator
+                        && f.mode == o.mode
+                        && (f.directions, f.steps) == (o.directions, o.steps)
+                })
+                .map(|_| &r.3)
+            })
+        };
+        for (name, estimator, mode, img, ms, options) in &results {
+            let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
+                full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
+            });
+            let screen = ms
+                .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
+                .and_then(screen_of);
+            rows.push(Row {
+                view: job.name.clone(),
+                variant: name.clone(),
+                estimator: estimator.clone(),
+                mode: mode.clone(),
+                rmse: metrics::rmse(img, r, &mask),
+                bias: metrics::bias(img, r, &mask),
+                ssim: metrics::ssim(img, r, w as usize, h as usize, &mask),
+                band_rmse: metrics::rmse(img, r, &band),
+                screen_rmse: screen.map(|s| metrics::rmse(img, s, &mask)),
+                screen_bias: screen.map(|s| metrics::bias(img, s, &mask)),
+                full_rmse,
+                ms: *ms,
+                temporal: variants
+                    .iter()
+                    .position(|v| &v.0 == name)
+                    .and_then(|i| temporal[i]),
+                bent: bent_of.get(name).copied(),
+            });
+        }
+        for row in rows.iter().filter(|x| x.view == job.name) {
+            eprintln!(
+                "  {:<30} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  band RMSE {:.4}  {}{}",
+                row.variant,
+                row.rmse,
+                row.bias,
+                row.ssim,
+                row.band_rmse,
+                row.screen_rmse
+                    .zip(row.screen_bias)
+                    .map_or(String::new(), |(m, b)| format!(
+                        "vs screen ref {m:.4} (bias {b:+.4})  "
+                    )),
+                row.ms
+                    .map_or(String::new(), |m| format!("{} ms", fmt_ms(m)))
+            );
+        }
+
+        if let (Some(dir), Some(md), false) = (&a.report, &md_path, a.no_pictures) {
+            let rel = relative_dir(dir, md);
+            let pic = |stem: &str| format!("{}-{}.png", job.name, stem.replace(' ', "-"));
+            write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
+            let _ = write!(
+                sections,
+                "\n### {}\n\n`{}`, {} triangles, radius {radius:.3}, reference {} rays/pixel (mean standard error {:.4}), eval {}×{}; evaluated in {:.0} s.\n\n| reference | {} |\n|---|{}\n| ![]({rel}{}) |",
+                job.name,
+                job.file.display(),
+                mesh.triangle_count(),
+                a.rays,
+                reference.mean_std_error,
+                w,
+                h,
+                t0.elapsed().as_secs_f64(),
+                variants.iter().map(|v| v.0.as_str()).collect::<Vec<_>>().join(" | "),
+                "---|".repeat(variants.len()),
+                pic("reference"),
+            );
+            for (name, _, _, img, _, _) in results.iter().skip(1 + screen.len()) {
+                write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
+                write_error(
+                    &dir.join(pic(&format!("{name}-error"))),
+                    img,
+                    r,
+                    &mask,
+                    w,
+                    h,
+                    a.picture_scale,
+                )?;
+                let _ = write!(sections, " ![]({rel}{}) |", pic(name));
+            }
+            let _ = write!(
+                sections,
+                "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
+            );
+            for (name, _, _, _, _, _) in results.iter().skip(1 + screen.len()) {
+                let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
+            }
+            sections.push('\n');
+        }
+    }
+
+    let means = variant_means(&rows);
+    let table = format!(
+        "{}{}{}{}{}{}",
+        mixed_summary(&rows),
+        frontier_table(&means),
+        sampling_bias_table(&rows),
+        bent_table(&rows),
+        summary_table(&rows),
+        temporal_table(&rows, a)
+    );
+    print!("{table}");
+    if let (Some(dir), Some(md)) = (&a.report, &md_path) {
+        let rel = relative_dir(dir, md);
+        write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
+        if means.len() > 1 {
+            write_text(&dir.join("frontier.svg"), &frontier_plot(&means))?;
+        }
+        // The mixed-resolution introduction only when some variant runs below full
+        // resolution (a denoiser alone also gets the full-resolution comparison columns).
+        let title = if variants
+            .iter()
+            .any(|(_, o)| o.resolution != Resolution::Full)
+        {
+            &format!("# Mixed resolution against ray-traced ground truth\n\nAO computed at half or quarter resolution (depth downsampled 2×2 → 1 by a rule, picks recentred on their tangent plane) or at a continuous scale *s* (`scaled s`: each working texel one of the full-resolution pixels it covers, by the same rule among the 2×2 nearest its centre, recentred; temporal accumulation, when on, on the working grid), upsampled to full resolution, compared with ray-traced AO and with the same estimator at full resolution. The evaluation size is {w}×{h} (half resolution is a {}×{} AO){}; speed-ups at 1920×1080 and 3840×2160, and what the numbers mean, are in BENCHMARKS.md (`obscura bench --compare resolutions`). *Speed-up* here is the mean over the views of full-resolution time / variant time at {w}×{h}, where the full-resolution prepare and upsample passes weigh most.", w.div_ceil(2), h.div_ceil(2), if w * h <= 640 * 400 { ", small: the harshest case for low resolutions" } else { "" })
+        } else {
+            "# Quality against ray-traced ground truth"
+        };
+        let mut doc = format!(
+            "{title}\n\nGenerated by `{}`.\n\nReference: CPU ray tracing of the scene triangles, cosine-weighted hemisphere, {} rays per pixel{}, hits within the radius {} (see `crates/obscura-eval`). Metrics over pixels where both the reference and the G-buffer see a surface; the band is the pixels within 2 px of a depth discontinuity (> 5% relative). Bias = mean(estimate − reference): positive means too bright. Each estimator's *screen-space reference* is its own integral brute-forced (64 × 64 samples, no jitter, `AoOptions::screen_reference`): its error against the ray tracer is what one depth layer allows that estimator, and *RMSE vs screen ref* and *bias vs screen ref* are an estimate's sampling error and sampling bias (for vo-area, whose 64 × 64 samples each cover under 4 px², the reference is the line integral's, so it is the area integral's distance from it). Times: median {} on {}.\n\n",
+            std::env::args().collect::<Vec<_>>().join(" "),
+            a.rays,
+            match a.truth {
+                TruthArg::Centre => "",
+                TruthArg::Msaa4 =>
+                    " (a quarter through each of the four 4× MSAA sample positions, averaged; sky samples unoccluded)",
+            },
+            match a.falloff {
+                FalloffArg::None => "occlude fully",
+                FalloffArg::Quadratic => "occlude by 1 − t²/R²",
+            },
+            match Timing::best_for(&ctx) {
+                Timing::Timestamps => "GPU time of the whole AO frame (the sum of its passes' timestamps)",
+                Timing::WallClock => "wall clock of the whole AO frame (every pass, submit to completion)",
+            },
+            ctx.describe()
+        );
+        doc.push_str(&table);
+        let _ = write!(doc, "\n![quality versus time]({rel}quality-vs-time.svg)\n");
+        if means.len() > 1 {
+            let _ = write!(
+                doc,
+                "\n![the quality-versus-time frontier]({rel}frontier.svg)\n"
+            );
+        }
+        doc.push_str("\n## Views\n");
+        doc.push_str(&sections);
+        write_text(md, &doc)?;
+        eprintln!("wrote {}", md.display());
+    }
+    if let Some(p) = &a.json {
+        write_text(p, &json(&rows, &info))?;
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}

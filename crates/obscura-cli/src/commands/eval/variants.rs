@@ -1,0 +1,165 @@
+//! The variants one `eval` run compares: every estimator × layout × sample choice ×
+//! resolution (downsample rule, upsampler) × denoiser, the continuous scales, and each
+//! `--frames` count.
+
+use super::args::EvalArgs;
+use crate::options::PresetArg;
+use anyhow::{bail, Result};
+use clap::ValueEnum;
+use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
+
+/// How one group of variants chooses its sample counts.
+#[derive(Clone, Copy)]
+enum SampleChoice {
+    Given,
+    Split((u32, u32)),
+    Preset(PresetArg),
+}
+
+/// The variants of a run, index by index.
+pub(super) struct Variants {
+    /// Each variant's label and options.
+    pub(super) list: Vec<(String, AoOptions)>,
+    /// Each variant's `AoParams::scale` (1 but for the scaled ones).
+    pub(super) scales: Vec<f32>,
+    /// Each variant's frame count.
+    pub(super) frames_of: Vec<u32>,
+    /// The longest frame count: the orbit's length.
+    pub(super) orbit_frames: u32,
+}
+
+/// The variants of `a`: each sample choice crossed with everything else, then with each
+/// frame count (N > 1 keeps a history and is labelled ×N).
+pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
+    let mut variants: Vec<(String, AoOptions)> = Vec::new();
+    // Each variant's `AoParams::scale` (1 but for the scaled ones).
+    let mut scales: Vec<f32> = Vec::new();
+    // The sample choices crossed with everything else: explicit splits, presets, or the
+    // one choice of --preset / --directions / --steps (no label suffix).
+    let choices: Vec<SampleChoice> = if !a.splits.is_empty() {
+        a.splits.iter().map(|&s| SampleChoice::Split(s)).collect()
+    } else if !a.presets.is_empty() {
+        a.presets.iter().map(|&p| SampleChoice::Preset(p)).collect()
+    } else {
+        vec![SampleChoice::Given]
+    };
+    for &e in &a.estimators {
+        for (&m, choice) in a
+            .modes
+            .iter()
+            .flat_map(|m| choices.iter().map(move |c| (m, c)))
+        {
+            let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
+            let mut base = AoOptions {
+                mode,
+                ..a.samples.options(estimator)
+            };
+            let mut name = format!("{} {}", estimator.name(), mode.name());
+            match *choice {
+                SampleChoice::Given => {}
+                SampleChoice::Split((directions, steps)) => {
+                    base.directions = directions;
+                    base.steps = steps;
+                    name = format!("{name} {directions}×{steps}");
+                }
+                SampleChoice::Preset(p) => {
+                    let o = AoOptions::preset(estimator, p.into());
+                    (base.directions, base.steps) = (o.directions, o.steps);
+                    let label = p.to_possible_value().map(|v| v.get_name().to_owned());
+                    name = format!("{name} {}", label.unwrap_or_default());
+                }
+            }
+            for &resolution in &a.resolutions {
+                for &denoise in &a.denoise {
+                    if resolution == Resolution::Full {
+                        let label = match denoise {
+                            Denoise::None => name.clone(),
+                            d => format!("{name} full {}", d.name()),
+                        };
+                        let o = AoOptions { denoise, ..base };
+                        variants.push((label, o));
+                        scales.push(1.0);
+                        continue;
+                    }
+                    for &downsample in &a.downsamples {
+                        for &upsample in &a.upsamplers {
+                            let o = AoOptions {
+                                resolution,
+                                downsample,
+                                upsample,
+                                denoise,
+                                ..base
+                            };
+                            let mut label = format!(
+                                "{name} {} {} {}",
+                                resolution.name(),
+                                downsample.name(),
+                                upsample.name()
+                            );
+                            if denoise != Denoise::None {
+                                label = format!("{label} {}", denoise.name());
+                            }
+                            variants.push((label, o));
+                            scales.push(1.0);
+                        }
+                    }
+                }
+            }
+            for &scale in &a.scales {
+                if estimator.uses_pyramid() || estimator.uses_moments() {
+                    break;
+                }
+                for &denoise in &a.denoise {
+                    if !matches!(denoise, Denoise::None | Denoise::Spatial) {
+                        continue;
+                    }
+                    let o = AoOptions {
+                        resolution: Resolution::Scaled,
+                        upsample: Upsampler::Bilateral,
+                        denoise,
+                        ..base
+                    };
+                    let mut label = format!("{name} scaled {scale}");
+                    if denoise != Denoise::None {
+                        label = format!("{label} {}", denoise.name());
+                    }
+                    variants.push((label, o));
+                    scales.push(scale);
+                }
+            }
+        }
+    }
+    if variants.is_empty() {
+        bail!("no variant to evaluate");
+    }
+    // Each frame count crossed with the variants above: N > 1 keeps a history and is
+    // labelled ×N. `frames_of[i]`: variant i's frame count.
+    let mut counts: Vec<u32> = Vec::new();
+    for &f in &a.frames {
+        if !counts.contains(&f) {
+            counts.push(f);
+        }
+    }
+    let single = std::mem::take(&mut variants);
+    let single_scales = std::mem::take(&mut scales);
+    let mut frames_of: Vec<u32> = Vec::new();
+    for &f in &counts {
+        for ((label, o), &scale) in single.iter().zip(&single_scales) {
+            let (mut label, mut o) = (label.clone(), *o);
+            if f > 1 {
+                o.history = a.history;
+                label = format!("{label} ×{f}");
+            }
+            variants.push((label, o));
+            scales.push(scale);
+            frames_of.push(f);
+        }
+    }
+    let orbit_frames = counts.iter().copied().max().unwrap_or(1);
+    Ok(Variants {
+        list: variants,
+        scales,
+        frames_of,
+        orbit_frames,
+    })
+}

@@ -1,0 +1,314 @@
+//! `obscura render` of a scene (the built-in one without --scene): scene → G-buffer → AO →
+//! PNG, with the optional depth, normal, bent-normal and SSDO pictures; `--orbit` and
+//! `--budget-ms` hand over to `orbit` and `budget`.
+
+use super::args::{options, params, BudgetControl, ProjectionKind, RenderArgs};
+use super::orbit::orbit;
+use super::record::record_timed;
+use crate::options::{parse_floats, NormalSource};
+use crate::output::{save_ao, save_png, save_vectors};
+use crate::readback::read_bent_normals;
+use anyhow::{bail, Context, Result};
+use glam::Vec3;
+use obscura::{layout, Ao, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution};
+use obscura_scene::{default_scene, Camera, CameraProjection, GBufferRenderer, Mesh};
+use std::time::Instant;
+
+/// The camera from the arguments, the built-in scene, or framing the bounds.
+fn camera(a: &RenderArgs, builtin: bool, mesh: &Mesh) -> Result<Camera> {
+    let bounds = mesh.bounds().context("the scene has no triangles")?;
+    let up = parse_floats(&a.up, "--up")?;
+    if up.len() != 3 {
+        bail!("--up needs 3 numbers, got {}", up.len());
+    }
+    let mut fov = a.fov;
+    let mut cam = match &a.camera {
+        Some(s) => {
+            let v = parse_floats(s, "--camera")?;
+            if v.len() != 6 && v.len() != 7 {
+                bail!(
+                    "--camera needs 6 or 7 numbers (eye, target, optional fov), got {}",
+                    v.len()
+                );
+            }
+            if let Some(&f) = v.get(6) {
+                fov = f;
+            }
+            let mut c = Camera {
+                eye: Vec3::new(v[0], v[1], v[2]),
+                target: Vec3::new(v[3], v[4], v[5]),
+                up: Vec3::from_slice(&up),
+                projection: CameraProjection::Perspective { fov_y_deg: fov },
+                near: 0.0,
+                far: 0.0,
+            };
+            c.fit_clip_planes(&bounds);
+            c
+        }
+        None if builtin => default_scene::camera(),
+        None => Camera::framing(&bounds, CameraProjection::Perspective { fov_y_deg: fov }),
+    };
+    cam.up = Vec3::from_slice(&up);
+    cam.projection = match a.projection {
+        ProjectionKind::Perspective => match (&a.camera, builtin) {
+            (None, true) if a.fov == 60.0 => cam.projection,
+            _ => CameraProjection::Perspective { fov_y_deg: fov },
+        },
+        ProjectionKind::Orthographic => CameraProjection::Orthographic {
+            height: a.ortho_height.unwrap_or_else(|| {
+                // Match the perspective view's extent at the target distance.
+                2.0 * (cam.target - cam.eye).length() * (0.5 * fov.to_radians()).tan()
+            }),
+        },
+    };
+    if a.projection == ProjectionKind::Orthographic {
+        // An orthographic camera sees everything in its slab: keep near small but positive.
+        cam.fit_clip_planes(&bounds);
+    }
+    if let Some(n) = a.near {
+        cam.near = n;
+    }
+    if let Some(f) = a.far {
+        cam.far = f;
+    }
+    cam.validate()?;
+    Ok(cam)
+}
+
+/// `obscura render` of a scene (the built-in one without --scene); arguments checked by
+/// [`check_args`](super::args::check_args).
+pub fn run(a: &RenderArgs) -> Result<()> {
+    let t0 = Instant::now();
+    // The environment first: a bad --env fails before any output is written.
+    let env = a
+        .ssdo
+        .as_ref()
+        .map(|_| crate::ssdo_shading::parse_env(&a.env))
+        .transpose()?;
+    let (mesh, name) = match &a.scene {
+        Some(p) => (
+            Mesh::load(p).with_context(|| format!("cannot load scene `{}`", p.display()))?,
+            p.display().to_string(),
+        ),
+        None => (default_scene::mesh(), "built-in courtyard".to_string()),
+    };
+    let cam = camera(a, a.scene.is_none(), &mesh)?;
+    let bounds = mesh.bounds().context("the scene has no triangles")?;
+    let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+    eprintln!(
+        "scene: {name}: {} triangles, loaded in {:.0} ms",
+        mesh.triangle_count(),
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+
+    let ctx = GpuContext::new()?;
+    eprintln!("adapter: {}", ctx.describe());
+    let t = Instant::now();
+    let raster = GBufferRenderer::new(&ctx.device);
+    let gpu_mesh = raster.upload(&ctx, &mesh)?;
+    let (gbuffer, msaa_depth);
+    let input = if a.msaa {
+        msaa_depth = raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+        gbuffer = None;
+        msaa_depth.ao_input(&cam)
+    } else {
+        gbuffer = Some(raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?);
+        let g = gbuffer.as_ref().context("no G-buffer")?;
+        g.ao_input(&cam, a.normals == NormalSource::Gbuffer)
+    };
+    eprintln!(
+        "g-buffer: {}x{}{} in {:.1} ms (includes pipeline creation)",
+        a.width,
+        a.height,
+        if a.msaa {
+            ", depth only, 4x MSAA (obscura resolves it; normals reconstructed)"
+        } else {
+            ""
+        },
+        t.elapsed().as_secs_f64() * 1e3
+    );
+
+    let options = options(a);
+    let params = params(a, radius);
+    let mut ao = Ao::new(&ctx.device, options)?;
+    let frame = ao.validate(&input, &params)?;
+    eprintln!(
+        "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
+        options.estimator.name(),
+        options.directions,
+        options.steps,
+        options.samples_per_pixel(),
+        options.mode.name(),
+        if options.fused { "" } else { " (unfused)" },
+    );
+    if !options.direct() {
+        eprintln!(
+            "ao: {} resolution, downsample {}, upsample {}, denoise {}",
+            options.resolution.name(),
+            options.downsample.name(),
+            options.upsample.name(),
+            options.denoise.name()
+        );
+    }
+    if let (Some(degrees), Some(dir), Some(budget)) = (a.orbit, &a.out_dir, a.budget_ms) {
+        let run = match a.budget_control {
+            BudgetControl::Joint => super::budget::orbit_joint,
+            BudgetControl::Scale => super::budget::orbit_scaled,
+            BudgetControl::Ladder => super::budget::orbit,
+        };
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+        let orbit = super::budget::Orbit {
+            a,
+            ctx: &ctx,
+            raster: &raster,
+            mesh: &gpu_mesh,
+            cam: &cam,
+            degrees,
+            dir,
+            timing: obscura::Timing::best_for(&ctx),
+            previous: None,
+        };
+        return run(orbit, options, &params, budget);
+    }
+    if let (Some(degrees), Some(dir)) = (a.orbit, &a.out_dir) {
+        return orbit(
+            a, &ctx, &raster, &gpu_mesh, &cam, &mut ao, &params, degrees, dir, t0,
+        );
+    }
+    let values = record_timed(a, &ctx, &mut ao, &input, &params)?;
+    save_ao(&a.out, &values, a.width, a.height, a.bits)?;
+    eprintln!("wrote {}", a.out.display());
+    if let Some(path) = &a.bent_normals_out {
+        let (bent, w, h) = read_bent_normals(&ctx, &ao)?;
+        save_vectors(path, &bent, w, h)?;
+        eprintln!("wrote {} ({w}x{h})", path.display());
+    }
+    if let (Some(path), Some(g), Some(env)) = (&a.ssdo, &gbuffer, &env) {
+        let lighting = crate::ssdo_shading::lighting(&env.irradiance_sh(), &cam);
+        let options = obscura::SsdoOptions::default();
+        let (rgb, ms) =
+            crate::ssdo_shading::shade(&ctx, &ao, g, &frame, &lighting, options, a.runs)?;
+        eprintln!(
+            "ssdo: env {}, bounce {} slices × {} steps per pixel over {}×{} pixel classes + merge: median {ms:.2} ms over {} runs (after the AO)",
+            a.env,
+            options.directions,
+            options.steps,
+            options.period,
+            options.period,
+            a.runs
+        );
+        crate::ssdo_shading::save_radiance(path, &rgb, a.width, a.height)?;
+        eprintln!("wrote {}", path.display());
+    }
+
+    if a.depth_out.is_some() || a.normals_out.is_some() {
+        let prepared = read_prepared(&ctx, &ao, &input, &params, a.width, a.height)?;
+        if let Some(path) = &a.depth_out {
+            save_png(
+                path,
+                &depth_visual(&prepared),
+                a.width,
+                a.height,
+                image::ExtendedColorType::L8,
+            )?;
+            eprintln!("wrote {}", path.display());
+        }
+        if let Some(path) = &a.normals_out {
+            let rgb: Vec<u8> = prepared
+                .chunks_exact(4)
+                .flat_map(|p| {
+                    let sky = p[0] <= 0.0;
+                    [p[1], p[2], p[3]].map(|c| {
+                        if sky {
+                            0
+                        } else {
+                            ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8
+                        }
+                    })
+                })
+                .collect();
+            save_png(
+                path,
+                &rgb,
+                a.width,
+                a.height,
+                image::ExtendedColorType::Rgb8,
+            )?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    eprintln!("total {:.2} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// AO in [0, 1] as 8-bit gray (white = unoccluded).
+/// The prepared `vec4(depth, normal)` buffer at full resolution: read directly, or
+/// re-interleaved on the CPU from the deinterleaved layers (fused modes keep no full copy),
+/// or, below full resolution without a full-resolution copy, prepared once more by a
+/// full-resolution single pass.
+fn read_prepared(
+    ctx: &GpuContext,
+    ao: &Ao,
+    input: &obscura::AoInput<'_>,
+    params: &AoParams,
+    w: u32,
+    h: u32,
+) -> Result<Vec<f32>> {
+    if let Some(view) = ao.prepared_view() {
+        return Ok(ctx.read_f32(view.texture())?);
+    }
+    if ao.options().resolution != Resolution::Full {
+        let mut full = Ao::new(
+            &ctx.device,
+            AoOptions {
+                mode: AoMode::Randomized,
+                resolution: Resolution::Full,
+                denoise: Denoise::None,
+                ..*ao.options()
+            },
+        )?;
+        ctx.run(|enc| full.record(&ctx.device, &ctx.queue, enc, input, params))?;
+        let view = full
+            .prepared_view()
+            .context("full-resolution prepared buffer missing")?;
+        return Ok(ctx.read_f32(view.texture())?);
+    }
+    let view = ao
+        .prepared_layers_view()
+        .context("prepared buffer missing")?;
+    let layers = ctx.read_f32(view.texture())?;
+    let n = ao.options().mode.split();
+    let (lw, lh) = layout::layer_size(w, h, n);
+    let mut out = vec![0.0; (w * h * 4) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let (tx, ty) = layout::layer_texel(x, y, n);
+            let src = (((layout::layer_of(x, y, n) * lh + ty) * lw + tx) * 4) as usize;
+            let dst = ((y * w + x) * 4) as usize;
+            out[dst..dst + 4].copy_from_slice(&layers[src..src + 4]);
+        }
+    }
+    Ok(out)
+}
+
+/// Log-scaled linear depth: nearest surface white, farthest dark grey, sky black.
+fn depth_visual(prepared: &[f32]) -> Vec<u8> {
+    let depths = prepared.chunks_exact(4).map(|p| p[0]);
+    let (lo, hi) = depths
+        .clone()
+        .filter(|d| *d > 0.0)
+        .fold((f32::INFINITY, 0.0f32), |(lo, hi), d| {
+            (lo.min(d), hi.max(d))
+        });
+    let span = (hi / lo).ln().max(1e-6);
+    depths
+        .map(|d| {
+            if d <= 0.0 {
+                0
+            } else {
+                (255.0 - 215.0 * ((d / lo).ln() / span)).round() as u8
+            }
+        })
+        .collect()
+}

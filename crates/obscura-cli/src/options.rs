@@ -1,0 +1,217 @@
+//! Command-line option types shared by the subcommands (pass layout, estimator, preset and
+//! sample counts, resolution, normal source) and their conversion to obscura's settings,
+//! with the parsers of named and numeric option values.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use obscura::{
+    AoMode, AoOptions, Denoise, DepthDownsample, Estimator, Preset, PyramidBuild, Resolution,
+    Upsampler,
+};
+
+/// The AO pass layout (see `obscura::AoMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// One full-resolution pass, per-pixel patterns from a 4×4 table.
+    Randomized,
+    /// 2×2 deinterleaved layers, one pattern per layer.
+    Deinterleaved2,
+    /// 4×4 deinterleaved layers, one pattern per layer.
+    Deinterleaved4,
+}
+
+impl From<ModeArg> for AoMode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Randomized => AoMode::Randomized,
+            ModeArg::Deinterleaved2 => AoMode::Deinterleaved2,
+            ModeArg::Deinterleaved4 => AoMode::Deinterleaved4,
+        }
+    }
+}
+
+/// The AO estimator (see `obscura::Estimator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EstimatorArg {
+    /// Horizon-based AO (Bavoil et al. 2008).
+    Hbao,
+    /// Ground-Truth AO (Jimenez et al. 2016).
+    Gtao,
+    /// Volumetric Obscurance (Loos & Sloan 2010).
+    Vo,
+    /// Volumetric AO (Szirmay-Kalos et al. 2009).
+    Vao,
+    /// Scalable Ambient Obscurance (McGuire et al. 2012), depth-pyramid sampled.
+    Sao,
+    /// Volumetric Obscurance's area integral (Loos & Sloan 2010): depth mean and variance
+    /// over each sample's share of the disk.
+    VoArea,
+}
+
+impl From<EstimatorArg> for Estimator {
+    fn from(e: EstimatorArg) -> Self {
+        match e {
+            EstimatorArg::Hbao => Estimator::Hbao,
+            EstimatorArg::Gtao => Estimator::Gtao,
+            EstimatorArg::Vo => Estimator::Vo,
+            EstimatorArg::Vao => Estimator::Vao,
+            EstimatorArg::Sao => Estimator::Sao,
+            EstimatorArg::VoArea => Estimator::VoArea,
+        }
+    }
+}
+
+/// Quality presets (see `obscura::Preset`): samples per pixel 8, 16, 32, 96.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PresetArg {
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+impl From<PresetArg> for Preset {
+    fn from(p: PresetArg) -> Self {
+        match p {
+            PresetArg::Low => Preset::Low,
+            PresetArg::Medium => Preset::Medium,
+            PresetArg::High => Preset::High,
+            PresetArg::Ultra => Preset::Ultra,
+        }
+    }
+}
+
+/// The estimator and its sample counts, shared by `render` and `bench`.
+#[derive(Debug, Args)]
+pub struct QualityArgs {
+    /// AO estimator.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
+    pub estimator: EstimatorArg,
+    #[command(flatten)]
+    pub samples: SampleArgs,
+}
+
+/// Preset and explicit sample counts, shared by every subcommand.
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// Quality preset: samples per pixel 8 (low), 16 (medium), 32 (high), 96 (ultra), the same
+    /// for every estimator. --directions and --steps override it.
+    #[arg(long, value_enum, default_value_t = PresetArg::High)]
+    pub preset: PresetArg,
+    /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel (1..=64). Default: the preset's.
+    #[arg(long)]
+    pub directions: Option<u32>,
+    /// Steps per direction (1..=64). Default: the preset's.
+    #[arg(long)]
+    pub steps: Option<u32>,
+}
+
+impl SampleArgs {
+    /// The preset's options for `estimator`, with explicit counts applied.
+    pub fn options(&self, estimator: Estimator) -> AoOptions {
+        let base = AoOptions::preset(estimator, self.preset.into());
+        AoOptions {
+            directions: self.directions.unwrap_or(base.directions),
+            steps: self.steps.unwrap_or(base.steps),
+            ..base
+        }
+    }
+}
+
+// One of the library's named choices (`T::ALL`, `T::name`), listing them on error.
+use obscura::settings::by_name as named;
+
+pub fn parse_resolution(s: &str) -> Result<Resolution, String> {
+    named(&Resolution::ALL, Resolution::name, s)
+}
+/// A resolution, the continuous `scaled` included.
+pub fn parse_resolution_or_scaled(s: &str) -> Result<Resolution, String> {
+    let all = [
+        Resolution::Full,
+        Resolution::Half,
+        Resolution::Quarter,
+        Resolution::Scaled,
+    ];
+    named(&all, Resolution::name, s)
+}
+pub fn parse_downsample(s: &str) -> Result<DepthDownsample, String> {
+    named(&DepthDownsample::ALL, DepthDownsample::name, s)
+}
+pub fn parse_upsampler(s: &str) -> Result<Upsampler, String> {
+    named(&Upsampler::ALL, Upsampler::name, s)
+}
+pub fn parse_denoise(s: &str) -> Result<Denoise, String> {
+    named(&Denoise::ALL, Denoise::name, s)
+}
+
+/// Mixed resolution (seeds 002, 004), shared by `render` and `bench`.
+#[derive(Debug, Args)]
+pub struct ResolutionArgs {
+    /// AO resolution: full, half, quarter, or scaled (any --scale in [0.25, 1]; bilateral
+    /// upsampling, denoise none or spatial).
+    #[arg(long, value_parser = parse_resolution_or_scaled, default_value = "full")]
+    pub resolution: Resolution,
+    /// Working pixels per full-resolution pixel with --resolution scaled, in [0.25, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f32,
+    /// Depth downsampling rule below full resolution: max, min, checkerboard, representative.
+    #[arg(long, value_parser = parse_downsample, default_value = "checkerboard")]
+    pub downsample: DepthDownsample,
+    /// Upsampler below full resolution: bilinear, nearest-depth, classified, bilateral.
+    #[arg(long, value_parser = parse_upsampler, default_value = "bilateral")]
+    pub upsample: Upsampler,
+    /// Filtering at the working resolution: none, spatial (edge-aware, one jitter period), box, tent.
+    #[arg(long, value_parser = parse_denoise, default_value = "spatial")]
+    pub denoise: Denoise,
+    /// Depth pyramid (SAO, classified upsampler): auto (four levels per pass on GPUs, one
+    /// on CPU adapters), one (one level per pass) or four (four levels per pass).
+    #[arg(long, value_parser = parse_pyramid, default_value = "auto")]
+    pub pyramid: PyramidBuild,
+}
+
+pub fn parse_pyramid(s: &str) -> Result<PyramidBuild, String> {
+    named(
+        &PyramidBuild::ALL,
+        |p| match p {
+            PyramidBuild::Auto => "auto",
+            PyramidBuild::OneLevelPerPass => "one",
+            PyramidBuild::FourLevelsPerPass => "four",
+        },
+        s,
+    )
+}
+
+impl ResolutionArgs {
+    /// `o` with these choices applied.
+    pub fn apply(&self, o: AoOptions) -> AoOptions {
+        AoOptions {
+            resolution: self.resolution,
+            downsample: self.downsample,
+            upsample: self.upsample,
+            denoise: self.denoise,
+            pyramid: self.pyramid,
+            ..o
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalSource {
+    /// Use the G-buffer's geometric normals (what an engine would pass in).
+    Gbuffer,
+    /// Reconstruct normals from depth alone.
+    Reconstruct,
+}
+
+/// Parses comma-separated finite numbers, naming the option `what` in errors.
+pub fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{what} `{s}` is not a comma-separated list of numbers"))?;
+    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+        bail!("{what} `{s}` contains {bad}; every value must be finite");
+    }
+    Ok(v)
+}
