@@ -1,6 +1,6 @@
 //! One source of truth for structs shared by Rust and WGSL: [`gpu_struct!`] declares a
 //! `#[repr(C)]` Pod struct and generates its WGSL declaration from the same field list, so
-//! no layout is ever typed twice. A naga test checks the generated offsets (tests/shaders.rs).
+//! no layout is ever typed twice. A naga test checks the generated offsets (tests/gpu/shaders.rs).
 
 /// The WGSL spelling of a Rust field type used in a [`gpu_struct!`].
 pub trait WgslType {
@@ -26,7 +26,7 @@ wgsl_types! {
 
 /// Declares a struct usable as a uniform, with `fn wgsl() -> String` giving its WGSL form.
 /// Field order must respect WGSL alignment (vec2 → 8, vec4/arrays → 16); the layout test
-/// in tests/shaders.rs fails otherwise.
+/// in tests/gpu/shaders.rs fails otherwise.
 #[macro_export]
 #[doc(hidden)]
 macro_rules! gpu_struct {

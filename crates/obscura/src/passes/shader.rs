@@ -17,7 +17,7 @@ use crate::{DepthDownsample, Estimator, Upsampler};
 /// constant-trip loops: on lavapipe the GTAO pass ran 13% slower with it
 /// (BENCHMARKS.md, "Shader loops without wgpu's bound"). Every loop in obscura's passes
 /// is a counted `for` whose counter moves monotonically toward a bound it cannot step
-/// over, and the test `every_shader_loop_is_counted` (tests/shaders.rs) checks that
+/// over, and the test `every_shader_loop_is_counted` (tests/gpu/shaders.rs) checks that
 /// form in every file, so the guard has nothing to guard. Every other runtime check
 /// (bounds checks, integer-division guards) stays on.
 pub(crate) fn create_module(

@@ -26,7 +26,7 @@ pub fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput
 }
 
 /// The texels of a packed lit texture (`obscura::shader::LIT_PACKED_FORMAT`).
-#[allow(dead_code)] // lights.rs and ssdo.rs
+#[allow(dead_code)] // gpu/lights.rs and gpu/ssdo.rs, not device_lost.rs
 pub fn read_packed(c: &GpuContext, t: &wgpu::Texture) -> Vec<[u32; 4]> {
     bytemuck::pod_collect_to_vec(&c.read_texture(t).unwrap())
 }
@@ -34,10 +34,10 @@ pub fn read_packed(c: &GpuContext, t: &wgpu::Texture) -> Vec<[u32; 4]> {
 /// A packed merge (passes/lights/lights_merge.wgsl) against its mirror
 /// (`reference::merge_lights_packed`). Both round the pass along x's result to the
 /// encoding's steps, so a rounding difference (~1e-7) can put one ratio a step apart (a
-/// tie, as a depth rule's picks in tests/gpu.rs): at most 0.5% of the pixels may differ by
+/// tie, as a depth rule's picks in tests/gpu/main.rs): at most 0.5% of the pixels may differ by
 /// more than 1e-4 of the mean, and none by more than one step of the brightest pixel (its
 /// largest component / 1023) beyond that.
-#[allow(dead_code)] // lights.rs and ssdo.rs
+#[allow(dead_code)] // gpu/lights.rs and gpu/ssdo.rs, not device_lost.rs
 pub fn assert_packed_merge(got: &[glam::Vec3], want: &[glam::Vec3], what: &str) {
     let mean = want.iter().map(|v| v.length()).sum::<f32>() / want.len() as f32;
     let step = want.iter().map(|v| v.max_element()).fold(0.0, f32::max) / 1023.0;

@@ -2,19 +2,11 @@
 //! camera move, convergence of a still camera toward the estimator's integral, history
 //! kept where the surface stayed visible and dropped where it was disoccluded, and resets.
 
-mod common;
-
+use crate::{common, ctx};
 use glam::{Mat4, Vec3, Vec4};
 use obscura::{
-    reference, Ao, AoMode, AoOptions, AoParams, CameraMotion, Denoise, Estimator, GpuContext,
-    Projection,
+    reference, Ao, AoMode, AoOptions, AoParams, CameraMotion, Denoise, Estimator, Projection,
 };
-use std::sync::OnceLock;
-
-fn ctx() -> &'static GpuContext {
-    static C: OnceLock<GpuContext> = OnceLock::new();
-    C.get_or_init(|| common::context(None))
-}
 
 const W: u32 = 96;
 const H: u32 = 64;

@@ -1,27 +1,15 @@
-//! Screen-space directional occlusion (src/ssdo.rs): the GPU passes against their CPU
+//! Screen-space directional occlusion (src/shading/ssdo.rs): the GPU passes against their CPU
 //! mirrors for every period, an open plane against the environment's closed-form
 //! irradiance, a coloured wall's bounce against the infinite wall's form factor, typed
 //! errors, no per-frame GPU objects. One device per binary.
 
+use crate::{common, ctx, lock};
 use glam::{Mat3, Vec3, Vec4};
 use obscura::uniforms::FrameUniforms;
 use obscura::{
-    reference, AoOptions, AoParams, DepthConvention, Environment, Error, GpuContext, Projection,
-    Ssdo, SsdoInputs, SsdoLighting, SsdoOptions, Viewport,
+    reference, AoOptions, AoParams, DepthConvention, Environment, Error, Projection, Ssdo,
+    SsdoInputs, SsdoLighting, SsdoOptions, Viewport,
 };
-use std::sync::{Mutex, OnceLock};
-
-mod common;
-
-fn ctx() -> &'static GpuContext {
-    static CTX: OnceLock<GpuContext> = OnceLock::new();
-    CTX.get_or_init(|| common::context(None))
-}
-
-fn lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: Mutex<()> = Mutex::new(());
-    LOCK.lock().unwrap_or_else(|p| p.into_inner())
-}
 
 const W: u32 = 61;
 const H: u32 = 43;

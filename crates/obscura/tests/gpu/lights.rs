@@ -1,27 +1,15 @@
-//! Interleaved many-light shading (src/lights.rs): the GPU passes against their CPU
+//! Interleaved many-light shading (src/shading/lights.rs): the GPU passes against their CPU
 //! mirrors, a light over a plane against the closed form, the interleaved-and-merged
 //! result against shading every light, typed errors, no per-frame GPU objects.
 //! One device per binary.
 
+use crate::{common, ctx, lock};
 use glam::{Vec3, Vec4};
 use obscura::uniforms::FrameUniforms;
 use obscura::{
-    reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error, GpuContext,
-    Lights, LightsOptions, PointLight, Projection, Viewport,
+    reference, Ao, AoInput, AoMode, AoOptions, AoParams, DepthConvention, Error, Lights,
+    LightsOptions, PointLight, Projection, Viewport,
 };
-use std::sync::{Mutex, OnceLock};
-
-mod common;
-
-fn ctx() -> &'static GpuContext {
-    static CTX: OnceLock<GpuContext> = OnceLock::new();
-    CTX.get_or_init(|| common::context(None))
-}
-
-fn lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: Mutex<()> = Mutex::new(());
-    LOCK.lock().unwrap_or_else(|p| p.into_inner())
-}
 
 const W: u32 = 61;
 const H: u32 = 43;

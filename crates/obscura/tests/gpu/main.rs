@@ -1,5 +1,7 @@
 //! GPU tests on synthetic depth buffers: the GPU passes against the CPU reference, and
-//! analytic cases with known answers. Runs on lavapipe in CI; one device per binary.
+//! analytic cases with known answers. Runs on lavapipe in CI. One binary and one device for
+//! every GPU test (the AO passes here; the shading, temporal, shader-source and WebGPU-limit
+//! tests in the modules below), but the lost-device test, which destroys its own.
 
 use glam::{Vec3, Vec4};
 use obscura::{
@@ -7,20 +9,34 @@ use obscura::{
     DepthDownsample, Error, Estimator, GpuContext, Projection, PyramidBuild, Resolution,
     ResourceCount, Timing, Upsampler, Viewport,
 };
-use std::sync::{Mutex, OnceLock};
+use std::sync::{OnceLock, RwLock};
 
+#[path = "../common/mod.rs"]
 mod common;
+mod lights;
+mod shaders;
+mod ssdo;
+mod temporal;
+mod webgpu_limits;
 use common::linear_input;
 
-fn ctx() -> &'static GpuContext {
+pub(crate) fn ctx() -> &'static GpuContext {
     static CTX: OnceLock<GpuContext> = OnceLock::new();
     CTX.get_or_init(|| common::context(None))
 }
 
-/// The GPU is shared; tests take turns so error scopes and uniforms never interleave.
-fn lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: Mutex<()> = Mutex::new(());
-    LOCK.lock().unwrap_or_else(|p| p.into_inner())
+static LOCK: RwLock<()> = RwLock::new(());
+
+/// The device is shared and tests run side by side (wgpu's error scopes are per thread, and
+/// every test makes its own `Ao`s and buffers); a test that counts the device's live
+/// objects runs alone ([`lock_alone`]).
+pub(crate) fn lock() -> std::sync::RwLockReadGuard<'static, ()> {
+    LOCK.read().unwrap_or_else(|p| p.into_inner())
+}
+
+/// No other test on the device while the guard lives.
+fn lock_alone() -> std::sync::RwLockWriteGuard<'static, ()> {
+    LOCK.write().unwrap_or_else(|p| p.into_inner())
 }
 
 const W: u32 = 67;
@@ -1825,7 +1841,7 @@ fn odd_sizes_keep_features_in_place() {
 /// counters where the `counters` feature is on (dev builds of this test).
 #[test]
 fn frames_create_no_gpu_objects() {
-    let _g = lock();
+    let _g = lock_alone();
     let c = ctx();
     for options in [
         AoOptions::default(),
@@ -2697,7 +2713,7 @@ fn scaled_resolution_matches_cpu_reference_and_is_full_resolution_at_scale_one()
     }
     // Temporal accumulation across a change of scale: frame B (scale 0.8) reprojects into
     // the history frame A wrote on its own grid (scale 0.6); the GPU's temporal pass against
-    // the mirror run on the GPU's own inputs (tolerance as tests/temporal.rs: 99.5% within
+    // the mirror run on the GPU's own inputs (tolerance as tests/gpu/temporal.rs: 99.5% within
     // 1e-4).
     let mut ao = Ao::new(
         &c.device,

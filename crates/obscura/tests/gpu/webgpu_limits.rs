@@ -1,6 +1,6 @@
 //! Every option combination runs on a device limited to WebGPU's default limits (what a
-//! browser grants without asking), with no validation error. Its own binary: it needs its
-//! own device.
+//! browser grants without asking), with no validation error. It makes its own device, with
+//! those limits.
 
 use obscura::lights::LIGHTS_MAX;
 use obscura::{
@@ -8,7 +8,7 @@ use obscura::{
     PointLight, Projection, Resolution, Upsampler,
 };
 
-mod common;
+use crate::common;
 
 #[test]
 fn every_option_runs_within_webgpu_default_limits() {
@@ -105,16 +105,26 @@ fn every_option_runs_within_webgpu_default_limits() {
             }
         }
     }
-    for options in &all {
-        let mut ao = Ao::new(&c.device, *options).unwrap_or_else(|e| panic!("{options:?}: {e}"));
-        c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, &params))
-            .unwrap_or_else(|e| panic!("{options:?}: {e}"));
-        let out = c.read_f32(ao.output().unwrap()).unwrap();
-        assert!(
-            out.iter().all(|a| (0.0..=1.0).contains(a)),
-            "{options:?}: AO outside [0, 1]"
-        );
-    }
+    // Two threads share the device, half the options each (wgpu's error scopes are per
+    // thread; a panic in either fails the test when the scope ends).
+    std::thread::scope(|s| {
+        for half in all.chunks(all.len().div_ceil(2)) {
+            let (c, input, params) = (&c, &input, &params);
+            s.spawn(move || {
+                for options in half {
+                    let mut ao =
+                        Ao::new(&c.device, *options).unwrap_or_else(|e| panic!("{options:?}: {e}"));
+                    c.run(|enc| ao.record(&c.device, &c.queue, enc, input, params))
+                        .unwrap_or_else(|e| panic!("{options:?}: {e}"));
+                    let out = c.read_f32(ao.output().unwrap()).unwrap();
+                    assert!(
+                        out.iter().all(|a| (0.0..=1.0).contains(a)),
+                        "{options:?}: AO outside [0, 1]"
+                    );
+                }
+            });
+        }
+    });
     assert!(all.len() > 80, "{} combinations", all.len());
 
     // Many-light shading from the randomized plan's prepared buffer: its 2048-light uniform
