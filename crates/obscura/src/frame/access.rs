@@ -15,7 +15,7 @@ impl Ao {
     }
 
     /// The library's own AO texture (`R32Float`, viewport-sized, 1 = unoccluded), once a
-    /// frame was recorded without a caller-provided [`AoInput::output`].
+    /// frame was recorded without a caller-provided [`crate::AoInput::output`].
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::Output))
     }
@@ -58,7 +58,7 @@ impl Ao {
     }
 
     /// Full-resolution linear view depth (`R32Float`, 0 = sky) when AO runs below full
-    /// resolution with the fused prepare ([`AoOptions::fused`]) and an upsampler that needs
+    /// resolution with the fused prepare ([`crate::AoOptions::fused`]) and an upsampler that needs
     /// no normals (else the prepared buffer holds it), for debugging/tests.
     pub fn linear_depth(&self) -> Option<&wgpu::Texture> {
         self.sized
@@ -84,7 +84,7 @@ impl Ao {
         self.sized.as_ref().and_then(|s| s.texture(Res::Level(k)))
     }
 
-    /// The bent normals of the last frame ([`AoOptions::bent_normals`]), after the temporal
+    /// The bent normals of the last frame ([`crate::AoOptions::bent_normals`]), after the temporal
     /// pass, the denoiser and the upsampler where they run: `Rgba32Float` at full
     /// resolution (at the working resolution after the box or tent filter), `vec4(n, 0)`
     /// with n the unit bent normal in view space (+z toward the camera, as the prepared
@@ -94,11 +94,11 @@ impl Ao {
     }
 
     /// The temporal history written by the last frame (`Rgba32Float` at the working
-    /// resolution; with [`Resolution::Scaled`] a full-size texture whose top-left
+    /// resolution; with [`crate::Resolution::Scaled`] a full-size texture whose top-left
     /// `ceil(full × scale)` texels hold it: `vec4(AO, frames accumulated (0 = sky), linear
     /// depth, packed normal)`
     /// (`reference::unpack_normal` decodes it)), when
-    /// [`AoOptions::history`] is on and a frame was recorded.
+    /// [`crate::AoOptions::history`] is on and a frame was recorded.
     pub fn history(&self) -> Option<&wgpu::Texture> {
         let parity = self.temporal.parity;
         self.sized
@@ -108,7 +108,7 @@ impl Ao {
     }
 
     /// The bent-normal history written by the last frame (as [`Ao::bent_normals`]), when
-    /// bent normals and [`AoOptions::history`] are on and a frame was recorded.
+    /// bent normals and [`crate::AoOptions::history`] are on and a frame was recorded.
     pub fn bent_history(&self) -> Option<&wgpu::Texture> {
         let parity = self.temporal.parity;
         self.sized
@@ -140,7 +140,7 @@ impl Ao {
         self.sized.as_ref().and_then(|s| s.texture(r))
     }
 
-    /// The prepared buffer at the last frame's scale with [`Resolution::Scaled`]
+    /// The prepared buffer at the last frame's scale with [`crate::Resolution::Scaled`]
     /// (`Rgba32Float`, created at full size; the working grid is its top-left
     /// `ceil(full × scale)` texels).
     pub fn scaled_prepared(&self) -> Option<&wgpu::Texture> {

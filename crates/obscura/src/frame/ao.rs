@@ -5,10 +5,12 @@
 
 use super::plan::Plan;
 use super::resources::SizedResources;
-use super::resources::{placeholder_normals, PrepareInputs, Resolve, ResourceCount, Shared};
+use super::resources::{placeholder_normals, PrepareInputs, Resolve, Shared};
 use super::temporal::TemporalState;
-use super::timing::{time_passes, PassCall, Timing};
-use super::validate::{depth_binding, validate, AoInput};
+use super::timing::{time_passes, PassCall};
+use super::validate::{depth_binding, validate};
+// The types of `Ao`'s signatures, also at this module's path (`obscura::ao::AoInput`).
+pub use super::{resources::ResourceCount, timing::Timing, validate::AoInput};
 use crate::gpu::pipeline::{compile, uniform_buffer, Compiled, ErrorScope};
 use crate::passes::shader::{dispatch_size, DepthBinding, Pass};
 use crate::passes::uniforms::FrameUniforms;
@@ -282,7 +284,7 @@ impl Ao {
     }
 
     /// Forgets the temporal history: the next frame starts a new one (as after a camera
-    /// cut, [`CameraMotion::Cut`], or a resize).
+    /// cut, [`crate::CameraMotion::Cut`], or a resize).
     pub fn reset_history(&mut self) {
         self.temporal.valid = false;
     }
