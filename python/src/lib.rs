@@ -254,7 +254,9 @@ fn job(
 /// call `render` for each map (a loop over thousands of maps pays the set-up once).
 ///
 /// Args:
-///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao" or "vo-area".
+///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao", "vo-area" or "bitmask"
+///         (the bitmask's thickness prior is the library's default; what it assumes:
+///         docs/thickness.md).
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel.
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".

@@ -46,6 +46,9 @@ pub enum EstimatorArg {
     /// Volumetric Obscurance's area integral (Loos & Sloan 2010): depth mean and variance
     /// over each sample's share of the disk.
     VoArea,
+    /// Visibility-bitmask AO (Therrien et al. 2023): GTAO's slices with sectors occluded
+    /// between each sample's front and back (--thickness).
+    Bitmask,
 }
 
 impl From<EstimatorArg> for Estimator {
@@ -57,6 +60,7 @@ impl From<EstimatorArg> for Estimator {
             EstimatorArg::Vao => Estimator::Vao,
             EstimatorArg::Sao => Estimator::Sao,
             EstimatorArg::VoArea => Estimator::VoArea,
+            EstimatorArg::Bitmask => Estimator::Bitmask,
         }
     }
 }
@@ -214,4 +218,22 @@ pub fn parse_floats(s: &str, what: &str) -> Result<Vec<f32>> {
         bail!("{what} `{s}` contains {bad}; every value must be finite");
     }
     Ok(v)
+}
+
+/// A thickness prior (`obscura::AoParams::thickness`): a number > 0 (times the radius), or
+/// `inf` (infinitely thick, GTAO's assumption).
+pub fn parse_thickness(s: &str) -> std::result::Result<f32, String> {
+    let t = match s.trim() {
+        "inf" | "infinite" | "infinity" => f32::INFINITY,
+        v => v
+            .parse::<f32>()
+            .map_err(|_| format!("`{v}` is not a number or `inf`"))?,
+    };
+    if t > 0.0 && !t.is_nan() {
+        Ok(t)
+    } else {
+        Err(format!(
+            "{s}: the thickness must be > 0 (times the radius) or `inf`"
+        ))
+    }
 }

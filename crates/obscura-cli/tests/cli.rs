@@ -520,7 +520,7 @@ fn eval_writes_report_json_and_caches_the_reference() {
     assert!(out.status.success(), "{err}");
     assert!(err.contains("mean standard error"), "{err}");
     let md = std::fs::read_to_string(report.join("index.md")).unwrap();
-    for e in ["gtao", "hbao", "vo", "vao", "sao", "vo-area"] {
+    for e in ["gtao", "hbao", "vo", "vao", "sao", "vo-area", "bitmask"] {
         assert!(
             md.contains(&format!("| {e} screen-space reference |")),
             "{md}"

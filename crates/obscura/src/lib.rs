@@ -58,7 +58,8 @@ pub use lights::{Lights, LightsOptions, PointLight};
 pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
-    Preset, PyramidBuild, Resolution, Upsampler, MIN_SCALE,
+    Preset, PyramidBuild, Resolution, Upsampler, DEFAULT_MARCH_EXPONENT, DEFAULT_THICKNESS,
+    MIN_SCALE,
 };
 pub use shading::prepared::Prepared;
 pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};

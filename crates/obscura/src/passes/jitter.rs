@@ -19,7 +19,7 @@ const BAYER4: [u32; PATTERN_COUNT] = [0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15
 /// rotations would fall on two pairs of nearly equal slice sets.
 pub fn rotation_sector(estimator: crate::Estimator, directions: u32) -> f32 {
     let turn = match estimator {
-        crate::Estimator::Gtao => std::f32::consts::PI,
+        crate::Estimator::Gtao | crate::Estimator::Bitmask => std::f32::consts::PI,
         _ => std::f32::consts::TAU,
     };
     turn / directions.max(1) as f32

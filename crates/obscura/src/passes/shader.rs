@@ -368,6 +368,11 @@ impl Pass {
                 include_str!("estimators/sphere.wgsl")
             }
             Estimator::Sao => include_str!("estimators/sao.wgsl"),
+            Estimator::Bitmask => concat!(
+                include_str!("estimators/gtao_arcs.wgsl"),
+                "\n",
+                include_str!("estimators/bitmask.wgsl")
+            ),
         };
         // How sphere.wgsl reads a chord: one depth (VO, VAO) or a texel's depth moments
         // (VO's area integral).
@@ -732,6 +737,7 @@ fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
         Estimator::Vao => ["vao", "vao_layers_merge", "vao_layers"],
         Estimator::Sao => ["sao", "sao_layers_merge", "sao_layers"],
         Estimator::VoArea => ["vo_area", "vo_area_layers_merge", "vo_area_layers"],
+        Estimator::Bitmask => ["bitmask", "bitmask_layers_merge", "bitmask_layers"],
     };
     names[kind]
 }

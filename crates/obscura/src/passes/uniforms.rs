@@ -70,6 +70,11 @@ crate::gpu_struct! {
         pub history: u32,
         /// Most frames the history averages ([`crate::AoOptions::history`]).
         pub history_max: f32,
+        /// The sampling model: x the bitmask estimator's thickness prior, view units
+        /// ([`crate::AoParams::thickness`] times the radius; 0 means infinitely thick);
+        /// y the march exponent of GTAO and the bitmask
+        /// ([`crate::AoParams::march_exponent`]); zw unused.
+        pub model: [f32; 4],
         /// Depth noise σ(d) = noise.x + noise.y · d + noise.z · d², clamped at 0
         /// ([`crate::AoParams::depth_noise`]); w unused (keeps the next field 16-byte
         /// aligned).
@@ -143,7 +148,9 @@ impl FrameUniforms {
                 crate::Estimator::Hbao => {
                     params.strength / (options.directions as f32 * (1.0 - sin_bias))
                 }
-                crate::Estimator::Gtao => params.strength / options.directions as f32,
+                crate::Estimator::Gtao | crate::Estimator::Bitmask => {
+                    params.strength / options.directions as f32
+                }
                 crate::Estimator::Vo | crate::Estimator::Vao | crate::Estimator::VoArea => {
                     params.strength
                 }
@@ -165,6 +172,14 @@ impl FrameUniforms {
             prev_inv_size: [1.0 / viewport.width as f32, 1.0 / viewport.height as f32],
             history: 0,
             history_max: options.history.max(1) as f32,
+            model: [
+                Some(params.thickness * params.radius)
+                    .filter(|t| t.is_finite())
+                    .unwrap_or(0.0),
+                params.march_exponent,
+                0.0,
+                0.0,
+            ],
             noise: [
                 params.depth_noise.constant,
                 params.depth_noise.linear,
@@ -280,6 +295,16 @@ impl FrameUniforms {
     /// passes/common.wgsl.
     pub fn step_px(&self, d: f32, steps: u32) -> f32 {
         self.radius_px(d) / (steps + 1) as f32
+    }
+
+    /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction,
+    /// pixels from the centre; mirrors `march_ray` in passes/common.wgsl.
+    pub fn march_ray(&self, s: u32, steps: u32, j: f32, step_px: f32) -> f32 {
+        let n = steps as f32;
+        if self.model[1] == 1.0 {
+            return 1.0 + (s as f32 + j) * step_px;
+        }
+        1.0 + step_px * n * ((s as f32 + j) / n).powf(self.model[1])
     }
 
     /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in passes/common.wgsl.
@@ -430,6 +455,8 @@ mod tests {
                 strength: f(1.0),
                 max_radius_px: f(256.0),
                 scale: f(1.0),
+                thickness: f(0.5),
+                march_exponent: f(1.0),
                 depth_noise: crate::DepthNoise {
                     constant: f(0.0),
                     linear: f(0.0),

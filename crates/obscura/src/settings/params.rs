@@ -83,7 +83,25 @@ pub struct AoParams {
     /// Working pixels per full-resolution pixel along each axis with
     /// [`Resolution::Scaled`]; must be 1 otherwise. Range [0.25, 1]. Default 1.
     pub scale: f32,
+    /// How deep a surface is behind the depth seen, as a multiple of [`AoParams::radius`]:
+    /// the thickness prior of [`crate::Estimator::Bitmask`] (other estimators ignore it).
+    /// One depth layer cannot show how far an object extends away from the camera; this
+    /// assumes every object is this deep there (docs/thickness.md). `f32::INFINITY`:
+    /// infinitely thick, GTAO's assumption. Range > 0. Default [`DEFAULT_THICKNESS`].
+    pub thickness: f32,
+    /// Where GTAO's and the bitmask estimator's steps land along a direction: step k of S
+    /// (jittered by j) at `1 + R_px · S/(S+1) · ((k + j)/S)^e` pixels, `e` this exponent. 1 spaces them
+    /// evenly (GTAO's march); 2 puts them closer near the centre, where contact shadows a
+    /// few pixels wide are (XeGTAO's sample distribution power). Range [1, 4]. Default
+    /// [`DEFAULT_MARCH_EXPONENT`].
+    pub march_exponent: f32,
 }
+
+/// The default [`AoParams::march_exponent`], chosen over all shared views (docs/thickness.md).
+pub const DEFAULT_MARCH_EXPONENT: f32 = 1.0;
+
+/// The default [`AoParams::thickness`], chosen over all shared views (docs/thickness.md).
+pub const DEFAULT_THICKNESS: f32 = 1.0;
 
 /// The camera's motion since the previous recorded frame, for temporal accumulation.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -113,6 +131,8 @@ impl Default for AoParams {
             motion: CameraMotion::Still,
             depth_noise: DepthNoise::NONE,
             scale: 1.0,
+            thickness: DEFAULT_THICKNESS,
+            march_exponent: DEFAULT_MARCH_EXPONENT,
         }
     }
 }
@@ -146,6 +166,18 @@ impl AoParams {
             "max_radius_px",
             self.max_radius_px,
             "pixels in [1, 4096]",
+        )?;
+        check(
+            self.thickness > 0.0 && !self.thickness.is_nan(),
+            "thickness",
+            self.thickness,
+            "a number > 0 (times the radius), or infinity",
+        )?;
+        check(
+            (1.0..=4.0).contains(&self.march_exponent),
+            "march_exponent",
+            self.march_exponent,
+            "a number in [1, 4]",
         )?;
         check(
             (MIN_SCALE..=1.0).contains(&self.scale),

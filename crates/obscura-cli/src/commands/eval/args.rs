@@ -2,8 +2,8 @@
 //! and depth noise), the sample-split parser, and the checks that need no file or GPU.
 
 use crate::options::{
-    parse_denoise, parse_downsample, parse_resolution, parse_upsampler, EstimatorArg, ModeArg,
-    NormalSource, PresetArg, SampleArgs,
+    parse_denoise, parse_downsample, parse_resolution, parse_thickness, parse_upsampler,
+    EstimatorArg, ModeArg, NormalSource, PresetArg, SampleArgs,
 };
 use crate::views::ViewArgs;
 use anyhow::{bail, Result};
@@ -17,6 +17,26 @@ pub enum FalloffArg {
     None,
     /// A hit at distance t occludes by 1 − t²/R² (HBAO's weight).
     Quadratic,
+}
+
+impl EvalArgs {
+    /// The thickness priors to run: --thickness, or the library's default.
+    pub fn priors(&self) -> Vec<f32> {
+        if self.thickness.is_empty() {
+            vec![obscura::DEFAULT_THICKNESS]
+        } else {
+            self.thickness.clone()
+        }
+    }
+
+    /// The march exponents to run: --march-exponents, or the library's default.
+    pub fn exponents(&self) -> Vec<f32> {
+        if self.march_exponents.is_empty() {
+            vec![obscura::DEFAULT_MARCH_EXPONENT]
+        } else {
+            self.march_exponents.clone()
+        }
+    }
 }
 
 #[derive(Debug, Args)]
@@ -43,7 +63,7 @@ pub struct EvalArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "gtao,hbao,vo,vao,sao,vo-area"
+        default_value = "gtao,hbao,vo,vao,sao,vo-area,bitmask"
     )]
     pub estimators: Vec<EstimatorArg>,
     #[command(flatten)]
@@ -77,6 +97,17 @@ pub struct EvalArgs {
     /// VO's area integral) are left out.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub scales: Vec<f32>,
+    /// Thickness priors of the bitmask estimator (comma-separated, times the radius, or
+    /// `inf`): with more than one, each bitmask variant runs with each, labelled "tT", and
+    /// so does its screen-space reference. Other estimators ignore it. Default: the
+    /// library's (`obscura::DEFAULT_THICKNESS`).
+    #[arg(long, value_parser = parse_thickness, value_delimiter = ',')]
+    pub thickness: Vec<f32>,
+    /// March exponents of GTAO and the bitmask estimator (comma-separated, each in [1, 4];
+    /// see `obscura::AoParams::march_exponent`): with more than one, each of their variants
+    /// runs with each, labelled "eE". Default: the library's.
+    #[arg(long, value_delimiter = ',')]
+    pub march_exponents: Vec<f32>,
     /// Depth downsampling rules for the low resolutions (comma-separated).
     #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,

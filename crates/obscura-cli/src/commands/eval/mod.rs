@@ -29,7 +29,7 @@ use report::{
 };
 use rows::{bent_error, Row, TemporalFigures};
 use sensor_depth::{linear_depth, sensor_depth};
-use variants::{variant_list, Variants};
+use variants::{thickness_label, variant_list, Variants};
 
 use crate::options::NormalSource;
 use crate::output::{check_png_path, fmt_ms, write_text};
@@ -80,6 +80,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let Variants {
         list: variants,
         scales,
+        model_of,
         frames_of,
         orbit_frames,
     } = variant_list(a)?;
@@ -93,14 +94,19 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             estimators.push(e.into());
         }
     }
-    let mut screen_aos: Vec<(Estimator, Ao)> = if a.no_screen_reference {
-        Vec::new()
-    } else {
-        estimators
-            .iter()
-            .map(|&e| Ok((e, Ao::new(&ctx.device, AoOptions::screen_reference(e))?)))
-            .collect::<Result<_, obscura::Error>>()?
-    };
+    // One screen-space reference per estimator, and per thickness prior for the bitmask.
+    let mut screen_aos: Vec<(Estimator, f32, Ao)> = Vec::new();
+    if !a.no_screen_reference {
+        for &e in &estimators {
+            let priors = match e {
+                Estimator::Bitmask => a.priors(),
+                _ => vec![obscura::DEFAULT_THICKNESS],
+            };
+            for t in priors {
+                screen_aos.push((e, t, Ao::new(&ctx.device, AoOptions::screen_reference(e))?));
+            }
+        }
+    }
     let (w, h) = (a.width, a.height);
     let mut rows = Vec::new();
     let mut sections = String::new();
@@ -227,6 +233,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             for (i, ao) in aos.iter_mut().enumerate() {
                 let p = AoParams {
                     scale: scales[i],
+                    thickness: model_of[i].thickness,
+                    march_exponent: model_of[i].exponent,
                     ..params
                 };
                 let ms = frame_ms(&ctx, ao, &input, &p, timing)?;
@@ -262,6 +270,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 ao.reset_history();
                 let p = AoParams {
                     scale: scales[i],
+                    thickness: model_of[i].thickness,
+                    march_exponent: model_of[i].exponent,
                     ..params
                 };
                 for _ in 0..frames_of[i] {
@@ -297,6 +307,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     };
                     let p = AoParams {
                         scale: scales[i],
+                        thickness: model_of[i].thickness,
+                        march_exponent: model_of[i].exponent,
                         motion,
                         ..params
                     };
@@ -330,18 +342,33 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             }
         }
         let mut screen = Vec::new();
-        for (e, ao) in screen_aos.iter_mut() {
+        let several = a.priors().len() > 1;
+        // An estimator's name in labels: the bitmask's with its prior when several are run.
+        let named = |e: Estimator, thickness: f32| match e {
+            Estimator::Bitmask if several => format!("bitmask {}", thickness_label(thickness)),
+            e => e.name().to_string(),
+        };
+        for (e, thickness, ao) in screen_aos.iter_mut() {
             let t = Instant::now();
-            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
+            let p = AoParams {
+                thickness: *thickness,
+                ..params
+            };
+            ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
             let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
             eprintln!(
                 "  {} screen-space reference: {:.1} s",
-                e.name(),
+                named(*e, *thickness),
                 t.elapsed().as_secs_f64()
             );
-            screen.push((*e, out));
+            screen.push((*e, *thickness, out));
         }
-        let screen_of = |e: Estimator| screen.iter().find(|s| s.0 == e).map(|s| &s.1);
+        let screen_of = |e: Estimator, thickness: f32| {
+            screen
+                .iter()
+                .find(|s| s.0 == e && (e != Estimator::Bitmask || s.1 == thickness))
+                .map(|s| &s.2)
+        };
         let white = vec![1.0f32; (w * h) as usize];
         // (label, estimator, mode, image, time, options)
         type Result5 = (
@@ -360,9 +387,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             None,
             None,
         )];
-        for (e, img) in &screen {
+        for (e, thickness, img) in &screen {
             results.push((
-                format!("{} screen-space reference", e.name()),
+                format!("{} screen-space reference", named(*e, *thickness)),
                 e.name().into(),
                 "screen-reference".into(),
                 img.clone(),
@@ -448,13 +475,18 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .map(|_| &r.3)
             })
         };
-        for (name, estimator, mode, img, ms, options) in &results {
+        let first_variant = 1 + screen.len();
+        for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
+            // The variant's thickness prior picks the bitmask's screen-space reference.
+            let thickness = k
+                .checked_sub(first_variant)
+                .map_or(obscura::DEFAULT_THICKNESS, |i| model_of[i].thickness);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
                 full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });
             let screen = ms
                 .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
-                .and_then(screen_of);
+                .and_then(|e| screen_of(e, thickness));
             rows.push(Row {
                 view: job.name.clone(),
                 variant: name.clone(),

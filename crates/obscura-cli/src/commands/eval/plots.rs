@@ -13,9 +13,9 @@ pub(super) fn frontier_plot(means: &[VariantMean]) -> String {
     let emax = means.iter().map(|v| v.error()).fold(1e-9, f64::max) * 1.05;
     let px = |t: f64| m + t / tmax * w;
     let py = |e: f64| 20.0 + h - e / emax * h;
-    let estimators = ["gtao", "hbao", "vo", "vao", "sao", "vo-area"];
+    let estimators = ["gtao", "hbao", "vo", "vao", "sao", "vo-area", "bitmask"];
     let colors = [
-        "#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#e6730f", "#17becf",
+        "#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#e6730f", "#17becf", "#8c564b",
     ];
     let color = |e: &str| {
         estimators

@@ -8,6 +8,14 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
+/// The bitmask estimator's model of a variant: `AoParams::thickness` and
+/// `AoParams::march_exponent` (the defaults for other estimators).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Model {
+    pub(super) thickness: f32,
+    pub(super) exponent: f32,
+}
+
 /// How one group of variants chooses its sample counts.
 #[derive(Clone, Copy)]
 enum SampleChoice {
@@ -22,6 +30,8 @@ pub(super) struct Variants {
     pub(super) list: Vec<(String, AoOptions)>,
     /// Each variant's `AoParams::scale` (1 but for the scaled ones).
     pub(super) scales: Vec<f32>,
+    /// Each variant's bitmask model.
+    pub(super) model_of: Vec<Model>,
     /// Each variant's frame count.
     pub(super) frames_of: Vec<u32>,
     /// The longest frame count: the orbit's length.
@@ -140,26 +150,72 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
             counts.push(f);
         }
     }
-    let single = std::mem::take(&mut variants);
-    let single_scales = std::mem::take(&mut scales);
+    // Each thickness prior (bitmask) and march exponent (GTAO, bitmask) crossed with those
+    // estimators' variants ("tT", "eE" after the estimator's name when more than one is
+    // given); other estimators run once.
+    let mut single: Vec<(String, AoOptions, f32, Model)> = Vec::new();
+    let (priors, exponents) = (a.priors(), a.exponents());
+    for ((label, o), scale) in variants.drain(..).zip(scales.drain(..)) {
+        let marches = matches!(o.estimator, Estimator::Gtao | Estimator::Bitmask);
+        let thick = o.estimator == Estimator::Bitmask;
+        let priors = if thick {
+            &priors[..]
+        } else {
+            &[obscura::DEFAULT_THICKNESS]
+        };
+        let exponents = if marches {
+            &exponents[..]
+        } else {
+            &[obscura::DEFAULT_MARCH_EXPONENT]
+        };
+        for &thickness in priors {
+            for &exponent in exponents {
+                let mut name = o.estimator.name().to_string();
+                if priors.len() > 1 {
+                    name = format!("{name} {}", thickness_label(thickness));
+                }
+                if exponents.len() > 1 {
+                    name = format!("{name} e{exponent}");
+                }
+                let label = label.replacen(o.estimator.name(), &name, 1);
+                let model = Model {
+                    thickness,
+                    exponent,
+                };
+                single.push((label, o, scale, model));
+            }
+        }
+    }
     let mut frames_of: Vec<u32> = Vec::new();
+    let mut model_of: Vec<Model> = Vec::new();
     for &f in &counts {
-        for ((label, o), &scale) in single.iter().zip(&single_scales) {
+        for (label, o, scale, model) in &single {
             let (mut label, mut o) = (label.clone(), *o);
             if f > 1 {
                 o.history = a.history;
                 label = format!("{label} ×{f}");
             }
             variants.push((label, o));
-            scales.push(scale);
+            scales.push(*scale);
             frames_of.push(f);
+            model_of.push(*model);
         }
     }
     let orbit_frames = counts.iter().copied().max().unwrap_or(1);
     Ok(Variants {
         list: variants,
         scales,
+        model_of,
         frames_of,
         orbit_frames,
     })
+}
+
+/// "tT" for a thickness prior, "tinf" for infinitely thick.
+pub(super) fn thickness_label(t: f32) -> String {
+    if t.is_finite() {
+        format!("t{t}")
+    } else {
+        "tinf".into()
+    }
 }

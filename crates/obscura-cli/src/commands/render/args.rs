@@ -87,6 +87,14 @@ pub struct RenderArgs {
     /// Occlusion strength multiplier (0..=4).
     #[arg(long, default_value_t = AoParams::default().strength)]
     pub strength: f32,
+    /// The bitmask estimator's thickness prior: how deep every surface is taken to be
+    /// behind the depth seen, times the radius (> 0, or `inf`). Other estimators ignore it.
+    #[arg(long, value_parser = crate::options::parse_thickness, default_value_t = AoParams::default().thickness)]
+    pub thickness: f32,
+    /// GTAO's and the bitmask estimator's march exponent (1..=4): 1 spaces steps evenly,
+    /// 2 puts them closer near the centre. Other estimators ignore it.
+    #[arg(long, default_value_t = AoParams::default().march_exponent)]
+    pub march_exponent: f32,
     /// Clamp of the on-screen radius in pixels (1..=4096).
     #[arg(long, default_value_t = AoParams::default().max_radius_px)]
     pub max_radius_px: f32,
@@ -317,6 +325,8 @@ pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {
         strength: a.strength,
         max_radius_px: a.max_radius_px,
         scale: a.resolution.scale,
+        thickness: a.thickness,
+        march_exponent: a.march_exponent,
         ..Default::default()
     }
 }

@@ -1,6 +1,9 @@
-//! The AO estimators (GTAO, HBAO, VO, VAO, VO area, SAO) and the passes that run them over
+//! The AO estimators (GTAO, HBAO, VO, VAO, VO area, SAO, bitmask) and the passes that run them over
 //! full-resolution pixels or deinterleaved layers. The WGSL is beside this file; the CPU
 //! mirror below reads like it (same names, same order of operations).
+
+mod bitmask;
+pub use bitmask::bitmask_pixel;
 
 use crate::passes::prepare::centre;
 use crate::passes::pyramid::{moments, pyramid, PyramidLevel};
@@ -159,7 +162,7 @@ pub fn hbao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
 
 /// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
 /// `fast_acos` in passes/estimators/gtao_arcs.wgsl.
-fn fast_acos(x: f32) -> f32 {
+pub(crate) fn fast_acos(x: f32) -> f32 {
     use crate::passes::constants::ACOS_POLY as k;
     let a = x.abs();
     let r = (1.0 - a).sqrt() * (k[0] + a * (k[1] + a * (k[2] + a * k[3])));
@@ -289,10 +292,9 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
             continue;
         }
         let mut hc = [-sin_n, sin_n];
-        let mut ray = pattern[2] * step_px + 1.0;
-        for _ in 0..px.steps {
+        for s in 0..px.steps {
+            let ray = f.march_ray(s, px.steps, pattern[2], step_px);
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
-            ray += step_px;
             // The centre is never its own occluder (gtao.wgsl).
             if off == [0, 0] {
                 continue;
@@ -510,6 +512,7 @@ pub fn ao_over(
             crate::Estimator::Vao => sphere_pixel(px, q, pattern, 0.5, false),
             crate::Estimator::VoArea => sphere_pixel(px, q, pattern, 0.0, true),
             crate::Estimator::Sao => sao_pixel(px, q, pattern),
+            crate::Estimator::Bitmask => bitmask_pixel(px, q, pattern),
         },
     )
 }

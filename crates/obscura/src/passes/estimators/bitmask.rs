@@ -1,0 +1,185 @@
+//! CPU mirror of the visibility-bitmask estimator (passes/estimators/bitmask.wgsl; same
+//! names, same order of operations).
+
+use super::{fast_acos, gtao_slice, GtaoSlice, Pixels, Surface};
+use crate::passes::prepare::centre;
+use glam::Vec3;
+use std::f32::consts::{FRAC_PI_2, PI};
+
+/// Sectors per slice: the bits of a `u32`.
+const SECTORS: f32 = 32.0;
+
+/// Mirrors `slice_cumulative` in bitmask.wgsl: the slice's running cosine-weighted
+/// integral from 0 to `s · acos(c)`, clamped to the normal's hemisphere.
+pub(crate) fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let t = s * fast_acos(c) - n;
+    let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
+    let sin_h = s * (1.0 - c * c).max(0.0).sqrt();
+    let cos_2h_n = if t.abs() > FRAC_PI_2 {
+        -cos_n
+    } else {
+        (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
+    };
+    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
+    if h < 0.0 {
+        -g
+    } else {
+        g
+    }
+}
+
+/// Mirrors `slice_edge` in bitmask.wgsl.
+pub(crate) fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let h = n + e * FRAC_PI_2;
+    let g = (cos_n + h * sin_n) * 0.5;
+    if h < 0.0 {
+        -g
+    } else {
+        g
+    }
+}
+
+/// Mirrors `sector_bits` in bitmask.wgsl: bits `[a, b)`.
+pub(crate) fn sector_bits(a: u32, b: u32) -> u32 {
+    let below = |k: u32| if k >= 32 { u32::MAX } else { (1u32 << k) - 1 };
+    below(b) & !below(a)
+}
+
+/// The visibility-bitmask AO of one pixel; mirrors `estimate` in
+/// passes/estimators/bitmask.wgsl.
+pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    let f = px.f;
+    let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
+        return 1.0;
+    };
+    let v = if f.perspective != 0 {
+        (-pos).normalize()
+    } else {
+        Vec3::Z
+    };
+    let step_px = f.step_px(d, px.steps);
+    let thickness = f.model[0];
+    let mut visibility = 0.0;
+    let mut weights = 0.0;
+    let (ts, tc) = (PI / px.directions as f32).sin_cos();
+    let mut dir = [pattern[0], pattern[1]];
+    for i in 0..px.directions {
+        if i > 0 {
+            dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
+        }
+        let GtaoSlice {
+            axis,
+            weight,
+            proj_len,
+            n,
+            cos_n,
+            sin_n,
+            ..
+        } = gtao_slice(dir, v, normal);
+        weights += weight;
+        if proj_len < 1e-6 {
+            visibility += weight;
+            continue;
+        }
+        let lower = slice_edge(-1.0, n, cos_n, sin_n);
+        let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
+        let to_bits = SECTORS / total.max(1e-6);
+        let mut occluded = 0u32;
+        for s in 0..px.steps {
+            let ray = f.march_ray(s, px.steps, pattern[2], step_px);
+            let off = px.snap([dir[0] * ray, dir[1] * ray]);
+            if off == [0, 0] {
+                continue;
+            }
+            for sgn in [1.0f32, -1.0] {
+                let q = if sgn > 0.0 {
+                    [p[0] + off[0], p[1] + off[1]]
+                } else {
+                    [p[0] - off[0], p[1] - off[1]]
+                };
+                let Some(sd) = px.depth_at(q) else {
+                    continue;
+                };
+                if sd <= 0.0 {
+                    continue;
+                }
+                let at = centre(q);
+                let front = f.view_position(at, sd) - pos;
+                let r2 = front.dot(front) * f.inv_radius2;
+                let wf = front - axis * front.dot(axis);
+                if r2 >= 1.0 || wf.dot(wf) <= 0.0 {
+                    continue;
+                }
+                let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
+                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
+                let mut ub = if sgn > 0.0 { total } else { 0.0 };
+                if thickness > 0.0 {
+                    let back = f.view_position(at, sd + thickness) - pos;
+                    let wb = back - axis * back.dot(axis);
+                    if wb.dot(wb) > 0.0 {
+                        let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
+                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                    }
+                }
+                let bit = |u: f32| (u * to_bits).round_ties_even().clamp(0.0, SECTORS) as u32;
+                occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
+            }
+        }
+        let clear = 1.0 - occluded.count_ones() as f32 / SECTORS;
+        visibility += weight * proj_len * total * clear;
+    }
+    let dirs = px.directions as f32;
+    let per_slice = dirs * visibility / weights;
+    (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sector_bits_cover_the_half_open_range() {
+        assert_eq!(sector_bits(0, 0), 0);
+        assert_eq!(sector_bits(0, 32), u32::MAX);
+        assert_eq!(sector_bits(3, 5), 0b11000);
+        assert_eq!(sector_bits(31, 32), 1 << 31);
+        assert_eq!(sector_bits(5, 3), 0);
+    }
+
+    /// The running integral between the hemisphere's edges is the slice's closed-form
+    /// total cos n + n sin n (Jimenez et al. 2016), and it is monotone in the angle, so
+    /// sectors are well ordered. Checked against a midpoint sum of cos(t − n) |sin t|.
+    #[test]
+    fn slice_cumulative_is_the_running_cosine_weighted_integral() {
+        for &n in &[-1.2f32, -0.5, 0.0, 0.3, 1.0, 1.5] {
+            let (sin_n, cos_n) = n.sin_cos();
+            let lower = slice_edge(-1.0, n, cos_n, sin_n);
+            let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
+            assert!((total - (cos_n + n * sin_n)).abs() < 1e-5, "n {n}: {total}");
+            let mut prev = f32::NEG_INFINITY;
+            for k in 0..=40 {
+                let h = n - FRAC_PI_2 + PI * k as f32 / 40.0;
+                let (s, c) = if h < 0.0 {
+                    (-1.0, h.cos())
+                } else {
+                    (1.0, h.cos())
+                };
+                let got = slice_cumulative(c, s, n, cos_n, sin_n) - lower;
+                // Midpoint rule from the lower edge to h.
+                let m = 2000;
+                let lo = n - FRAC_PI_2;
+                let dt = (h - lo) / m as f32;
+                let want: f32 = (0..m)
+                    .map(|i| {
+                        let t = lo + (i as f32 + 0.5) * dt;
+                        (t - n).cos() * t.sin().abs() * dt
+                    })
+                    .sum();
+                // fast_acos's 1e-4 rad error bounds the difference.
+                assert!((got - want).abs() < 2e-3, "n {n} h {h}: {got} vs {want}");
+                assert!(got >= prev - 1e-4, "not monotone at n {n} h {h}");
+                prev = got;
+            }
+        }
+    }
+}

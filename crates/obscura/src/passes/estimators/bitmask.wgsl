@@ -1,0 +1,141 @@
+// Visibility-bitmask AO (Therrien, Levesque & Gilet, "Screen Space Indirect Lighting with
+// Visibility Bitmask", 2023): the estimator only; composed like gtao.wgsl, after
+// gtao_arcs.wgsl (the slice frame and `fast_acos`).
+//
+// GTAO's slices and samples, but a slice keeps a 32-bit field of occluded sectors instead
+// of two horizons. A sample is a solid from its front (the depth seen) to its back (the
+// front pushed away from the camera by the thickness prior, frame.thickness), and occludes
+// the sectors between the two directions; samples farther than R, sky and off-screen
+// samples are ignored, as in GTAO. The sectors are not equal angles (the paper's choice)
+// but equal shares of the slice's cosine-weighted integral (Jimenez et al. 2016, eq. 10),
+// so a slice's visibility is its unoccluded integral times the share of clear bits, and
+// with infinite thickness the estimate is GTAO's up to the 1/32 quantisation. Sector
+// edges are rounded to the nearest bit, so the quantisation has no sign. Slice weights
+// and the final mapping are GTAO's. CPU mirror: passes/estimators/mod.rs, `bitmask_pixel`.
+
+override DIRECTIONS: u32 = 4u;
+override STEPS: u32 = 4u;
+override BENT_NORMALS: bool = false;
+
+const SECTORS: f32 = 32.0;
+
+// The slice's cosine-weighted integral from 0 to the angle h = s * acos(c) (clamped to the
+// normal's hemisphere n +- pi/2), signed: the running integral D(h) of cos(t - n) |sin t|,
+// D(0) = 0. gtao_side's closed form, with the sign of h.
+fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let t = s * fast_acos(c) - n;
+    let h = n + clamp(t, -HALF_PI, HALF_PI);
+    let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
+    let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
+    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
+    return select(g, -g, h < 0.0);
+}
+
+// D at the hemisphere's edge n + e * pi/2 (e = +1 or -1), where cos(2h - n) = -cos n.
+fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let h = n + e * HALF_PI;
+    let g = (cos_n + h * sin_n) * 0.5;
+    return select(g, -g, h < 0.0);
+}
+
+// Bits [a, b) set, 0 <= a, b <= 32.
+fn sector_bits(a: u32, b: u32) -> u32 {
+    let below_b = select((1u << b) - 1u, 0xffffffffu, b >= 32u);
+    let below_a = select((1u << a) - 1u, 0xffffffffu, a >= 32u);
+    return below_b & ~below_a;
+}
+
+fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
+    let d = centre.x;
+    if BENT_NORMALS {
+        bent_normal = vec3<f32>(0.0);
+    }
+    if d <= 0.0 {
+        return 1.0;
+    }
+    let normal = centre.yzw;
+    let pos = estimator_origin(vec2<f32>(p) + 0.5, d, centre.yzw);
+    var v = vec3<f32>(0.0, 0.0, 1.0);
+    if frame.perspective != 0u {
+        v = normalize(-pos);
+    }
+    let step_px = march_step_px(d, STEPS);
+    let size = vec2<i32>(frame.size);
+    let thickness = frame.model.x;
+    var visibility = 0.0;
+    var weights = 0.0;
+    let turn = vec2<f32>(cos(PI / f32(DIRECTIONS)), sin(PI / f32(DIRECTIONS)));
+    var dir = pattern.xy;
+    for (var i = 0u; i < DIRECTIONS; i++) {
+        if i > 0u {
+            dir = vec2<f32>(dir.x * turn.x - dir.y * turn.y, dir.x * turn.y + dir.y * turn.x);
+        }
+        let slice = gtao_slice(dir, v, normal);
+        let axis = slice.axis;
+        let weight = slice.weight;
+        weights += weight;
+        let proj_len = slice.proj_len;
+        if proj_len < 1e-6 {
+            visibility += weight;
+            continue;
+        }
+        let n = slice.n;
+        let cos_n = slice.cos_n;
+        let sin_n = slice.sin_n;
+        // The slice's integral runs from D(n - pi/2) to D(n + pi/2); bit k is the k-th 1/32
+        // of it.
+        let lower = slice_edge(-1.0, n, cos_n, sin_n);
+        let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
+        let to_bits = SECTORS / max(total, 1e-6);
+        var occluded = 0u;
+        for (var s = 0u; s < STEPS; s++) {
+            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px));
+            // The centre is never its own occluder (gtao.wgsl).
+            if all(off == vec2<i32>(0)) {
+                continue;
+            }
+            for (var side = 0; side < 2; side++) {
+                var q = p + off;
+                var sgn = 1.0;
+                if side == 1 {
+                    q = p - off;
+                    sgn = -1.0;
+                }
+                if any(q < vec2<i32>(0)) || any(q >= size) {
+                    continue;
+                }
+                let sd = sample_depth(q);
+                if sd <= 0.0 {
+                    continue;
+                }
+                let at = vec2<f32>(q) + 0.5;
+                let front = view_position(at, sd) - pos;
+                let r2 = dot(front, front) * frame.inv_radius2;
+                // Measured in the slice plane, as in gtao.wgsl.
+                let wf = front - axis * dot(front, axis);
+                if r2 >= 1.0 || dot(wf, wf) <= 0.0 {
+                    continue;
+                }
+                let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
+                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
+                // Infinitely thick: the solid reaches the hemisphere's edge on this side.
+                var ub = select(0.0, total, sgn > 0.0);
+                if thickness > 0.0 {
+                    let back = view_position(at, sd + thickness) - pos;
+                    let wb = back - axis * dot(back, axis);
+                    if dot(wb, wb) > 0.0 {
+                        let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
+                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                    }
+                }
+                let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));
+                let b = u32(clamp(round(max(uf, ub) * to_bits), 0.0, SECTORS));
+                occluded |= sector_bits(a, b);
+            }
+        }
+        let clear = 1.0 - f32(countOneBits(occluded)) / SECTORS;
+        visibility += weight * proj_len * total * clear;
+    }
+    let per_slice = f32(DIRECTIONS) * visibility / weights;
+    return clamp(1.0 - (f32(DIRECTIONS) - per_slice) * frame.ao_scale, 0.0, 1.0);
+}
