@@ -46,7 +46,7 @@ def ambient_occlusion(
     depth_noise: "auto" (estimated from the map; the default), "none", "kinect"
         (sigma = 1.5 mm z^2), or (C, L, Q): sigma(z) = C + L z + Q z^2 in scene units;
         "kinect" and (C, L, Q) add a uint16 map's quantisation terraces.
-    estimator: "gtao", "hbao", "vo", "vao", "sao" or "vo-area".
+    estimator: "gtao", "hbao", "vo", "vao", "sao", "vo-area" or "bitmask".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel).
     resolution: "full", "half" or "quarter".
     denoise: "spatial", "none", "box" or "tent".
