@@ -536,7 +536,7 @@ fn eval_writes_report_json_and_caches_the_reference() {
         }
     }
     assert!(report.join("quality-vs-time.svg").exists());
-    // The frontier: every one of the 18 variants listed once, the fastest on it.
+    // The frontier: every one of the 21 variants listed once, the fastest on it.
     let front = &md[md
         .find("### Quality-versus-time frontier")
         .expect("frontier")..];
@@ -544,16 +544,16 @@ fn eval_writes_report_json_and_caches_the_reference() {
         .lines()
         .filter(|l| l.ends_with("**frontier** |") || l.contains("| beaten by "))
         .collect();
-    assert_eq!(listed.len(), 18, "{front}");
+    assert_eq!(listed.len(), 21, "{front}");
     assert!(listed[0].ends_with("**frontier** |"), "{front}");
     assert!(report.join("frontier.svg").exists());
     let j = std::fs::read_to_string(&json).unwrap();
-    // White baseline + 6 screen-space references + 6 estimators × 3 modes.
+    // White baseline + 7 screen-space references + 7 estimators × 3 modes.
     let records = j.matches("\"view\": \"cornell\", \"variant\"").count();
-    assert_eq!(records, 25, "{j}");
+    assert_eq!(records, 29, "{j}");
     assert_eq!(j.matches("\"estimator\": \"gtao\"").count(), 4, "{j}");
     // Every estimate has its sampling error against its screen-space reference.
-    assert_eq!(j.matches("\"screen_rmse\": null").count(), 7, "{j}");
+    assert_eq!(j.matches("\"screen_rmse\": null").count(), 8, "{j}");
     // Its sampling bias is its bias minus its screen-space reference's (same pixels), to
     // the JSON's rounding, and the report lists every estimate's.
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
@@ -578,14 +578,14 @@ fn eval_writes_report_json_and_caches_the_reference() {
         );
         checked += 1;
     }
-    assert_eq!(checked, 18, "{j}");
+    assert_eq!(checked, 21, "{j}");
     let sampling = &md[md.find("### Sampling bias").expect("sampling bias")..];
     assert_eq!(
         sampling
             .lines()
             .filter(|l| l.ends_with("| cornell |"))
             .count(),
-        18,
+        21,
         "{sampling}"
     );
     // The second run finds the reference in the cache.
