@@ -297,14 +297,15 @@ impl FrameUniforms {
         self.radius_px(d) / (steps + 1) as f32
     }
 
-    /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction,
-    /// pixels from the centre; mirrors `march_ray` in passes/common.wgsl.
-    pub fn march_ray(&self, s: u32, steps: u32, j: f32, step_px: f32) -> f32 {
+    /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction on a
+    /// lattice of `cell` pixels, pixels from the centre; mirrors `march_ray` in
+    /// passes/common.wgsl.
+    pub fn march_ray(&self, s: u32, steps: u32, j: f32, step_px: f32, cell: f32) -> f32 {
         let n = steps as f32;
         if self.model[1] == 1.0 {
             return 1.0 + (s as f32 + j) * step_px;
         }
-        1.0 + step_px * n * ((s as f32 + j) / n).powf(self.model[1])
+        cell + (1.0 + step_px * n - cell) * ((s as f32 + j) / n).powf(self.model[1])
     }
 
     /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in passes/common.wgsl.

@@ -10,6 +10,11 @@ fn snap_offset(v: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(round(v));
 }
 
+// The sampling lattice's cell, pixels.
+fn lattice_cell() -> f32 {
+    return 1.0;
+}
+
 fn sample_depth(q: vec2<i32>) -> f32 {
     return textureLoad(prepared_in, q, 0).x;
 }

@@ -16,6 +16,11 @@ fn snap_offset(v: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(round(v / f32(SPLIT))) * i32(SPLIT);
 }
 
+// The sampling lattice's cell, pixels.
+fn lattice_cell() -> f32 {
+    return f32(SPLIT);
+}
+
 // `q` is always in this invocation's layer (offsets are multiples of SPLIT), q >= 0.
 fn sample_depth(q: vec2<i32>) -> f32 {
     return textureLoad(prepared_in, vec2<u32>(q) / SPLIT, layer, 0).x;

@@ -86,7 +86,7 @@ pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         let to_bits = SECTORS / total.max(1e-6);
         let mut occluded = 0u32;
         for s in 0..px.steps {
-            let ray = f.march_ray(s, px.steps, pattern[2], step_px);
+            let ray = f.march_ray(s, px.steps, pattern[2], step_px, px.lattice as f32);
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             if off == [0, 0] {
                 continue;

@@ -89,7 +89,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let to_bits = SECTORS / max(total, 1e-6);
         var occluded = 0u;
         for (var s = 0u; s < STEPS; s++) {
-            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px));
+            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell()));
             // The centre is never its own occluder (gtao.wgsl).
             if all(off == vec2<i32>(0)) {
                 continue;

@@ -64,7 +64,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         var hc0 = -sin_n;
         var hc1 = sin_n;
         for (var s = 0u; s < STEPS; s++) {
-            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px));
+            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell()));
             // A short step snapped to the N x N lattice can land on the centre itself. With
             // the origin raised off the surface (noisy depth) that sample lies straight
             // below it and, on a surface turned over 45 degrees from V, reads as a horizon

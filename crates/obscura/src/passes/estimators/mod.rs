@@ -293,7 +293,7 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
         }
         let mut hc = [-sin_n, sin_n];
         for s in 0..px.steps {
-            let ray = f.march_ray(s, px.steps, pattern[2], step_px);
+            let ray = f.march_ray(s, px.steps, pattern[2], step_px, px.lattice as f32);
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             // The centre is never its own occluder (gtao.wgsl).
             if off == [0, 0] {
