@@ -90,7 +90,8 @@ pub struct AoParams {
     /// infinitely thick, GTAO's assumption. Range > 0. Default [`DEFAULT_THICKNESS`].
     pub thickness: f32,
     /// Where GTAO's and the bitmask estimator's steps land along a direction: step k of S
-    /// (jittered by j) at `1 + R_px · S/(S+1) · ((k + j)/S)^e` pixels, `e` this exponent. 1 spaces them
+    /// (jittered by j) at `c + (1 + R_px · S/(S+1) − c) · ((k + j)/S)^e` pixels, `e` this
+    /// exponent and `c` the sampling lattice's cell (1, or N in the N×N layouts). 1 spaces them
     /// evenly (GTAO's march); 2 puts them closer near the centre, where contact shadows a
     /// few pixels wide are (XeGTAO's sample distribution power). Range [1, 4]. Default
     /// [`DEFAULT_MARCH_EXPONENT`].
