@@ -94,7 +94,7 @@ pub enum Pass {
         fit: bool,
     },
     /// The randomized single full-resolution AO pass; `bent`: bent normals written too
-    /// (GTAO and HBAO).
+    /// (GTAO, HBAO and the bitmask).
     AoFull { estimator: Estimator, bent: bool },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
     /// else keep the result in layers for [`Pass::Interleave`]; `bent` as for
@@ -721,11 +721,16 @@ fn ao_bent(bent: bool) -> &'static str {
 }
 
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
-/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO).
+/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO, bitmask).
 fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
     if bent {
         let names = match e {
             Estimator::Hbao => ["hbao_bent", "hbao_bent_layers_merge", "hbao_bent_layers"],
+            Estimator::Bitmask => [
+                "bitmask_bent",
+                "bitmask_bent_layers_merge",
+                "bitmask_bent_layers",
+            ],
             _ => ["gtao_bent", "gtao_bent_layers_merge", "gtao_bent_layers"],
         };
         return names[kind];

@@ -104,9 +104,10 @@ impl Estimator {
     }
 
     /// Whether the estimator can output bent normals ([`AoOptions::bent_normals`]): GTAO
-    /// and HBAO, whose horizons bound the unoccluded arc of every slice or direction.
+    /// and HBAO, whose horizons bound the unoccluded arc of every slice or direction, and
+    /// the bitmask, whose clear sectors are that arc.
     pub fn has_bent_normals(self) -> bool {
-        matches!(self, Estimator::Gtao | Estimator::Hbao)
+        matches!(self, Estimator::Gtao | Estimator::Hbao | Estimator::Bitmask)
     }
 }
 
@@ -461,7 +462,7 @@ pub struct AoOptions {
     /// sec. 5), integrated from the same horizons as the AO, for diffuse environment
     /// lighting and specular occlusion. Through the temporal pass, the spatial denoiser and
     /// the upsampler with the AO's texels and weights, so at full resolution; not through
-    /// the box/tent filters (with them, at the working resolution). GTAO and HBAO
+    /// the box/tent filters (with them, at the working resolution). GTAO, HBAO and the bitmask
     /// ([`Estimator::has_bent_normals`]). Default `false`.
     pub bent_normals: bool,
 }

@@ -3407,6 +3407,7 @@ fn bent_normals_match_cpu_reference_in_every_layout() {
         (Estimator::Gtao, Resolution::Half),
         (Estimator::Hbao, Resolution::Full),
         (Estimator::Hbao, Resolution::Half),
+        (Estimator::Bitmask, Resolution::Full),
     ] {
         for mode in AoMode::ALL {
             for (fused, denoise) in [
@@ -3582,7 +3583,7 @@ fn bent_normals_on_planes_and_in_a_crease() {
         Vec3::new(0.0, -1.0, 1.0).normalize(),
     );
     let corner = Vec3::new(0.0, 0.0, -5.0);
-    for (estimator, mode) in [Estimator::Gtao, Estimator::Hbao]
+    for (estimator, mode) in [Estimator::Gtao, Estimator::Hbao, Estimator::Bitmask]
         .into_iter()
         .flat_map(|e| AoMode::ALL.map(|m| (e, m)))
     {

@@ -148,7 +148,7 @@ pub struct EvalArgs {
     /// Cache folder for ray-traced references.
     #[arg(long, default_value = ".obscura-cache")]
     pub cache: PathBuf,
-    /// Also score the bent normals of GTAO and HBAO (their single-frame variants, run once more with bent
+    /// Also score the bent normals of GTAO, HBAO and the bitmask (their single-frame variants, run once more with bent
     /// normals on, untimed; not after box/tent below full resolution) against the ray tracer's: the mean angle to the
     /// traced bent normal, over all pixels and over occluded ones (traced AO < 0.9), beside
     /// the surface normal's angle to it (what a renderer without bent normals uses).

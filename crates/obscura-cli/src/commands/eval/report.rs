@@ -140,7 +140,7 @@ pub(super) fn bent_table(rows: &[Row]) -> String {
     if names.is_empty() {
         return String::new();
     }
-    let mut s = format!("\n### Bent normals\n\nMean angle to the ray tracer's bent normal (the mean direction of its unoccluded cosine-weighted rays), over the views: of the estimator's bent normals (GTAO, HBAO), and of the surface normal it was given or reconstructed (what a renderer uses without bent normals); *occluded*: pixels whose traced AO is below {OCCLUDED}, where the two differ most.\n\n| variant | bent normals | surface normal | bent normals, occluded | surface normal, occluded |\n|---|---|---|---|---|\n");
+    let mut s = format!("\n### Bent normals\n\nMean angle to the ray tracer's bent normal (the mean direction of its unoccluded cosine-weighted rays), over the views: of the estimator's bent normals (GTAO, HBAO, bitmask), and of the surface normal it was given or reconstructed (what a renderer uses without bent normals); *occluded*: pixels whose traced AO is below {OCCLUDED}, where the two differ most.\n\n| variant | bent normals | surface normal | bent normals, occluded | surface normal, occluded |\n|---|---|---|---|---|\n");
     for name in names {
         let mine: Vec<BentError> = rows
             .iter()

@@ -158,7 +158,7 @@ pub struct RenderArgs {
     /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
-    /// Also write the bent normals of GTAO or HBAO (view space, unit, the cosine-weighted mean unoccluded
+    /// Also write the bent normals of GTAO, HBAO or the bitmask (view space, unit, the cosine-weighted mean unoccluded
     /// direction; full resolution, or the working one with --denoise box|tent): .png (8-bit
     /// RGB of xyz * 0.5 + 0.5, black on sky), .npy (float32, height × width × 3) or .exr
     /// (float32 RGB = xyz).

@@ -3,7 +3,7 @@
 
 use super::{fast_acos, gtao_slice, GtaoSlice, Pixels, Surface};
 use crate::passes::prepare::centre;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Sectors per slice: the bits of a `u32`.
@@ -39,6 +39,76 @@ pub(crate) fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     }
 }
 
+/// Mirrors `slice_at` in bitmask.wgsl.
+fn slice_at(h: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let g = (cos_n + 2.0 * h * sin_n - (2.0 * h - n).cos()) * 0.25;
+    if h < 0.0 {
+        -g
+    } else {
+        g
+    }
+}
+
+/// Mirrors `bent_at` in bitmask.wgsl.
+fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> Vec2 {
+    let (sh, ch) = h.sin_cos();
+    let (sh3, ch3) = (sh * sh * sh, ch * ch * ch);
+    let f = Vec2::new(
+        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
+        cos_n * (1.0 - ch3) + sin_n * sh3,
+    ) / 3.0;
+    if h < 0.0 {
+        -f
+    } else {
+        f
+    }
+}
+
+/// Knots of the angle-from-share interpolation (`BENT_KNOTS` in bitmask.wgsl).
+const BENT_KNOTS: usize = 8;
+
+/// Mirrors `bitmask_bent` in bitmask.wgsl: the slice's bent-normal integral over its runs
+/// of clear sectors, in (ortho, V) coordinates.
+pub(crate) fn bitmask_bent(
+    occluded: u32,
+    n: f32,
+    cos_n: f32,
+    sin_n: f32,
+    lower: f32,
+    total: f32,
+) -> Vec2 {
+    let first = n - FRAC_PI_2;
+    let width = PI / BENT_KNOTS as f32;
+    let knots: [f32; BENT_KNOTS + 1] = std::array::from_fn(|i| {
+        (slice_at(first + i as f32 * width, n, cos_n, sin_n) - lower) / total.max(1e-6)
+    });
+    let mut bent = Vec2::ZERO;
+    let mut run_start: Option<f32> = None;
+    for k in 0..=32u32 {
+        let clear = k < 32 && occluded & (1 << k) == 0;
+        if clear == run_start.is_some() {
+            continue;
+        }
+        let u = k as f32 / SECTORS;
+        let mut h = first + PI;
+        for i in 0..BENT_KNOTS {
+            if u <= knots[i + 1] {
+                let t = ((u - knots[i]) / (knots[i + 1] - knots[i]).max(1e-6)).clamp(0.0, 1.0);
+                h = first + (i as f32 + t) * width;
+                break;
+            }
+        }
+        match run_start {
+            None => run_start = Some(h),
+            Some(a) => {
+                bent += bent_at(h, cos_n, sin_n) - bent_at(a, cos_n, sin_n);
+                run_start = None;
+            }
+        }
+    }
+    bent
+}
+
 /// Mirrors `sector_bits` in bitmask.wgsl: bits `[a, b)`.
 pub(crate) fn sector_bits(a: u32, b: u32) -> u32 {
     let below = |k: u32| if k >= 32 { u32::MAX } else { (1u32 << k) - 1 };
@@ -48,9 +118,15 @@ pub(crate) fn sector_bits(a: u32, b: u32) -> u32 {
 /// The visibility-bitmask AO of one pixel; mirrors `estimate` in
 /// passes/estimators/bitmask.wgsl.
 pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
+    bitmask_pixel_bent(px, p, pattern).0
+}
+
+/// The visibility-bitmask AO of one pixel and its bent normal (unit, view space; zero on
+/// sky); mirrors `estimate` in passes/estimators/bitmask.wgsl with BENT_NORMALS.
+pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
     let f = px.f;
     let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
-        return 1.0;
+        return (1.0, Vec3::ZERO);
     };
     let v = if f.perspective != 0 {
         (-pos).normalize()
@@ -61,6 +137,7 @@ pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     let thickness = f.model[0];
     let mut visibility = 0.0;
     let mut weights = 0.0;
+    let mut bent = Vec3::ZERO;
     let (ts, tc) = (PI / px.directions as f32).sin_cos();
     let mut dir = [pattern[0], pattern[1]];
     for i in 0..px.directions {
@@ -69,12 +146,12 @@ pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         }
         let GtaoSlice {
             axis,
+            ortho,
             weight,
             proj_len,
             n,
             cos_n,
             sin_n,
-            ..
         } = gtao_slice(dir, v, normal);
         weights += weight;
         if proj_len < 1e-6 {
@@ -127,15 +204,50 @@ pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
         }
         let clear = 1.0 - occluded.count_ones() as f32 / SECTORS;
         visibility += weight * proj_len * total * clear;
+        let b = bitmask_bent(occluded, n, cos_n, sin_n, lower, total);
+        bent += weight * proj_len * (b.x * ortho + b.y * v);
     }
     let dirs = px.directions as f32;
     let per_slice = dirs * visibility / weights;
-    (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0)
+    let bent = if bent.length_squared() > 1e-12 {
+        bent.normalize()
+    } else {
+        normal
+    };
+    (
+        (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0),
+        bent,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// With every sector clear the slice's bent integral is the whole hemisphere's, which
+    /// is gtao_bent's from one edge to the other: the knots' interpolation is exact at the
+    /// ends. With the upper half of the sectors occluded it is the lower half's alone.
+    #[test]
+    fn bitmask_bent_integrates_the_clear_runs() {
+        for &n in &[-0.9f32, 0.0, 0.4] {
+            let (sin_n, cos_n) = n.sin_cos();
+            let lower = slice_edge(-1.0, n, cos_n, sin_n);
+            let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
+            let all = bitmask_bent(0, n, cos_n, sin_n, lower, total);
+            let want = bent_at(n + FRAC_PI_2, cos_n, sin_n) - bent_at(n - FRAC_PI_2, cos_n, sin_n);
+            assert!((all - want).length() < 1e-5, "n {n}: {all} vs {want}");
+            assert_eq!(
+                bitmask_bent(u32::MAX, n, cos_n, sin_n, lower, total),
+                Vec2::ZERO
+            );
+            let low = bitmask_bent(0xffff_0000, n, cos_n, sin_n, lower, total);
+            let high = bitmask_bent(0x0000_ffff, n, cos_n, sin_n, lower, total);
+            assert!(
+                (low + high - all).length() < 1e-5,
+                "n {n}: halves {low} + {high} vs {all}"
+            );
+        }
+    }
 
     #[test]
     fn sector_bits_cover_the_half_open_range() {

@@ -11,7 +11,8 @@
 // so a slice's visibility is its unoccluded integral times the share of clear bits, and
 // with infinite thickness the estimate is GTAO's up to the 1/32 quantisation. Sector
 // edges are rounded to the nearest bit, so the quantisation has no sign. Slice weights
-// and the final mapping are GTAO's. CPU mirror: passes/estimators/mod.rs, `bitmask_pixel`.
+// and the final mapping are GTAO's; so is the bent normal, integrated over the clear
+// sectors (`bitmask_bent`). CPU mirror: passes/estimators/mod.rs, `bitmask_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
@@ -36,6 +37,65 @@ fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     let h = n + e * HALF_PI;
     let g = (cos_n + h * sin_n) * 0.5;
     return select(g, -g, h < 0.0);
+}
+
+// The running integral D at an angle h of the slice (h within the normal's hemisphere).
+fn slice_at(h: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let g = (cos_n + 2.0 * h * sin_n - cos(2.0 * h - n)) * 0.25;
+    return select(g, -g, h < 0.0);
+}
+
+// The running bent-normal integral at angle h, signed like D: gtao_bent's closed form
+// (gtao_arcs.wgsl) at cos h and sin h, in (ortho, V) coordinates.
+fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
+    let ch = cos(h);
+    let sh = sin(h);
+    let sh3 = sh * sh * sh;
+    let ch3 = ch * ch * ch;
+    let f = vec2<f32>(cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3), cos_n * (1.0 - ch3) + sin_n * sh3) / 3.0;
+    return select(f, -f, h < 0.0);
+}
+
+// The slice's share of the bent normal (Jimenez et al. 2016, sec. 5: the cosine-weighted
+// mean of the unoccluded directions), summed over the runs of clear sectors. A sector edge
+// at share u of the integral is turned back into an angle by interpolating D between
+// BENT_KNOTS + 1 angles evenly spread over the hemisphere. Mirror: `bitmask_bent`.
+const BENT_KNOTS: u32 = 8u;
+
+fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32, lower: f32, total: f32) -> vec2<f32> {
+    let first = n - HALF_PI;
+    let width = PI / f32(BENT_KNOTS);
+    var knots: array<f32, 9>;
+    for (var i = 0u; i <= BENT_KNOTS; i++) {
+        knots[i] = (slice_at(first + f32(i) * width, n, cos_n, sin_n) - lower) / max(total, 1e-6);
+    }
+    var bent = vec2<f32>(0.0);
+    var run_start = 0.0;
+    var start = -1;
+    for (var k = 0; k <= 32; k++) {
+        let clear = k < 32 && (occluded & (1u << u32(k))) == 0u;
+        if clear == (start >= 0) {
+            continue;
+        }
+        // An edge of a clear run: its angle from its share of the integral.
+        let u = f32(k) / SECTORS;
+        var h = first + PI;
+        for (var i = 0u; i < BENT_KNOTS; i++) {
+            if u <= knots[i + 1u] {
+                let t = clamp((u - knots[i]) / max(knots[i + 1u] - knots[i], 1e-6), 0.0, 1.0);
+                h = first + (f32(i) + t) * width;
+                break;
+            }
+        }
+        if clear {
+            start = k;
+            run_start = h;
+        } else {
+            bent += bent_at(h, cos_n, sin_n) - bent_at(run_start, cos_n, sin_n);
+            start = -1;
+        }
+    }
+    return bent;
 }
 
 // Bits [a, b) set, 0 <= a, b <= 32.
@@ -64,6 +124,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let thickness = frame.model.x;
     var visibility = 0.0;
     var weights = 0.0;
+    var bent = vec3<f32>(0.0);
     let turn = vec2<f32>(cos(PI / f32(DIRECTIONS)), sin(PI / f32(DIRECTIONS)));
     var dir = pattern.xy;
     for (var i = 0u; i < DIRECTIONS; i++) {
@@ -135,6 +196,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         }
         let clear = 1.0 - f32(countOneBits(occluded)) / SECTORS;
         visibility += weight * proj_len * total * clear;
+        if BENT_NORMALS {
+            let b = bitmask_bent(occluded, n, cos_n, sin_n, lower, total);
+            bent += weight * proj_len * (b.x * slice.ortho + b.y * v);
+        }
+    }
+    if BENT_NORMALS {
+        bent_normal = select(normal, normalize(bent), dot(bent, bent) > 1e-12);
     }
     let per_slice = f32(DIRECTIONS) * visibility / weights;
     return clamp(1.0 - (f32(DIRECTIONS) - per_slice) * frame.ao_scale, 0.0, 1.0);

@@ -3,7 +3,7 @@
 //! mirror below reads like it (same names, same order of operations).
 
 mod bitmask;
-pub use bitmask::bitmask_pixel;
+pub use bitmask::{bitmask_pixel, bitmask_pixel_bent};
 
 use crate::passes::prepare::centre;
 use crate::passes::pyramid::{moments, pyramid, PyramidLevel};
@@ -517,18 +517,22 @@ pub fn ao_over(
     )
 }
 
-/// The bent normals of GTAO or HBAO ([`crate::AoOptions::bent_normals`]) over the grid of
+/// The bent normals of GTAO, HBAO or the bitmask ([`crate::AoOptions::bent_normals`]) over the grid of
 /// `f` (the working frame; `prepared` its level) with the patterns and lattice of the
 /// mode, as the AO pass writes them before any denoiser (unit, view space; zero on sky).
 pub fn bent_normals(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> Vec<Vec3> {
-    let hbao = options.estimator == crate::Estimator::Hbao;
-    over_pixels(f, options, prepared, f.size, prepared, |px, q, pattern| {
-        if hbao {
-            hbao_pixel_bent(px, q, pattern).1
-        } else {
-            gtao_pixel_bent(px, q, pattern).1
-        }
-    })
+    over_pixels(
+        f,
+        options,
+        prepared,
+        f.size,
+        prepared,
+        |px, q, pattern| match options.estimator {
+            crate::Estimator::Hbao => hbao_pixel_bent(px, q, pattern).1,
+            crate::Estimator::Bitmask => bitmask_pixel_bent(px, q, pattern).1,
+            _ => gtao_pixel_bent(px, q, pattern).1,
+        },
+    )
 }
 
 /// `pixel` at every pixel of `f`'s grid with the pattern and sampling lattice of the mode
