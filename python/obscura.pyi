@@ -26,6 +26,7 @@ def ambient_occlusion(
     normals_frame: str = "opencv",
     depth_scale: Optional[float] = None,
     depth_noise: DepthNoise = None,
+    thickness: Optional[float] = None,
     estimator: str = "gtao",
     preset: str = "high",
     resolution: str = "full",
@@ -46,6 +47,10 @@ def ambient_occlusion(
     depth_noise: "auto" (estimated from the map; the default), "none", "kinect"
         (sigma = 1.5 mm z^2), or (C, L, Q): sigma(z) = C + L z + Q z^2 in scene units;
         "kinect" and (C, L, Q) add a uint16 map's quantisation terraces.
+    thickness: the bitmask estimator's thickness prior, times the radius (> 0, or
+        float("inf"): infinitely thick, as GTAO assumes); default 1. A depth map shows
+        only the front of each object: this assumes every object is that deep behind each
+        pixel, along its ray (docs/thickness.md). Other estimators ignore it.
     estimator: "gtao", "hbao", "vo", "vao", "sao", "vo-area" or "bitmask".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel).
     resolution: "full", "half" or "quarter".
@@ -85,6 +90,7 @@ class Renderer:
         normals_frame: str = "opencv",
         depth_scale: Optional[float] = None,
         depth_noise: DepthNoise = None,
+        thickness: Optional[float] = None,
     ) -> npt.NDArray[np.float32]:
         """The AO of one depth map; arguments as `ambient_occlusion`. Releases the GIL
         while the device works."""

@@ -199,6 +199,7 @@ fn job(
     normals_frame: &str,
     depth_scale: Option<f32>,
     depth_noise: Option<&Bound<'_, PyAny>>,
+    thickness: Option<f32>,
 ) -> PyResult<Job> {
     let (w, h, values, integer) = depth_values(py, depth)?;
     if let Some(s) = depth_scale {
@@ -240,6 +241,7 @@ fn job(
     let params = AoParams {
         radius,
         depth_noise,
+        thickness: thickness.unwrap_or(obscura::DEFAULT_THICKNESS),
         ..Default::default()
     };
     params.validate().map_err(to_py)?;
@@ -255,8 +257,7 @@ fn job(
 ///
 /// Args:
 ///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao", "vo-area" or "bitmask"
-///         (the bitmask's thickness prior is the library's default; what it assumes:
-///         docs/thickness.md).
+///         (its thickness prior: `render`'s `thickness`).
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel.
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".
@@ -300,7 +301,7 @@ impl Renderer {
     }
 
     /// Ambient occlusion of one depth map; see `obscura.ambient_occlusion` for the arguments.
-    #[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None))]
+    #[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, thickness=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &mut self,
@@ -315,6 +316,7 @@ impl Renderer {
         normals_frame: &str,
         depth_scale: Option<f32>,
         depth_noise: Option<&Bound<'py, PyAny>>,
+        thickness: Option<f32>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let job = job(
             py,
@@ -325,6 +327,7 @@ impl Renderer {
             normals_frame,
             depth_scale,
             depth_noise,
+            thickness,
         )?;
         self.run(py, &job)
     }
@@ -366,6 +369,11 @@ impl Renderer {
 ///         metres), none for floats (scene units already); a scale given applies to both.
 ///     depth_noise: "auto" (default: estimated from the map), "none", "kinect", or
 ///         (C, L, Q) for sigma(z) = C + L z + Q z^2 in scene units.
+///     thickness: the bitmask estimator's thickness prior, times the radius (> 0, or
+///         float("inf") for GTAO's infinitely thick surfaces); default the library's (1).
+///         A depth map shows only the front of each object: this assumes every object is
+///         that deep behind each pixel, along its ray (docs/thickness.md). Other estimators
+///         ignore it.
 ///     estimator, preset, resolution, denoise, frames: as `Renderer`.
 ///
 /// Creates a device and compiles the passes on every call: use `Renderer` in loops.
@@ -374,7 +382,7 @@ impl Renderer {
 ///     ValueError: bad input (the library's messages, as `obscura render --depth` prints them).
 ///     DeviceError: no adapter could be opened, or the device failed.
 #[pyfunction]
-#[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, estimator="gtao", preset="high", resolution="full", denoise="spatial", frames=1))]
+#[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, thickness=None, estimator="gtao", preset="high", resolution="full", denoise="spatial", frames=1))]
 #[allow(clippy::too_many_arguments)]
 fn ambient_occlusion<'py>(
     py: Python<'py>,
@@ -388,6 +396,7 @@ fn ambient_occlusion<'py>(
     normals_frame: &str,
     depth_scale: Option<f32>,
     depth_noise: Option<&Bound<'py, PyAny>>,
+    thickness: Option<f32>,
     estimator: &str,
     preset: &str,
     resolution: &str,
@@ -405,6 +414,7 @@ fn ambient_occlusion<'py>(
         normals_frame,
         depth_scale,
         depth_noise,
+        thickness,
     )?;
     Renderer::new(py, estimator, preset, resolution, denoise, frames)?.run(py, &job)
 }

@@ -195,6 +195,29 @@ def test_bad_options_and_normals_raise_value_error(renderer):
             obscura.Renderer(**bad)
 
 
+def test_the_bitmask_thickness_prior_lightens_behind_a_thin_strip():
+    """A strip 0.2 in front of a wall at 2: taken as infinitely deep it shadows the wall
+    beside it like a fin; taken as 0.1 radius deep it blocks only the sectors between its
+    front and back, so the wall beside it is brighter. Bad priors are ValueErrors."""
+    d = plane(depth=2.0)
+    d[:, 60:66] = 1.8
+    k = centred()
+    r = obscura.Renderer(estimator="bitmask", denoise="none")
+    thin = r.render(d, **k, radius=0.4, thickness=0.1)
+    thick = r.render(d, **k, radius=0.4, thickness=float("inf"))
+    wall = np.r_[48:60, 66:78]
+    assert thick[32:96, wall].mean() < 0.9
+    assert thin[32:96, wall].mean() > thick[32:96, wall].mean() + 0.05
+    # The default prior is the library's (1 radius), between the two here.
+    default = r.render(d, **k, radius=0.4)
+    assert thin[32:96, wall].mean() >= default[32:96, wall].mean() >= thick[32:96, wall].mean()
+    for bad in [0.0, -1.0, float("nan")]:
+        with pytest.raises(ValueError, match="thickness"):
+            r.render(d, **k, thickness=bad)
+        with pytest.raises(ValueError, match="thickness"):
+            obscura.ambient_occlusion(d, **k, thickness=bad)
+
+
 def test_no_adapter_is_a_device_error():
     old = os.environ.get("OBSCURA_ADAPTER")
     os.environ["OBSCURA_ADAPTER"] = "no-such-adapter-anywhere"
