@@ -362,6 +362,8 @@ impl Pass {
             Estimator::Gtao => concat!(
                 include_str!("estimators/gtao_arcs.wgsl"),
                 "\n",
+                include_str!("estimators/slice_march.wgsl"),
+                "\n",
                 include_str!("estimators/gtao.wgsl")
             ),
             Estimator::Vo | Estimator::Vao | Estimator::VoArea => {
@@ -370,6 +372,8 @@ impl Pass {
             Estimator::Sao => include_str!("estimators/sao.wgsl"),
             Estimator::Bitmask => concat!(
                 include_str!("estimators/gtao_arcs.wgsl"),
+                "\n",
+                include_str!("estimators/slice_march.wgsl"),
                 "\n",
                 include_str!("estimators/bitmask.wgsl")
             ),

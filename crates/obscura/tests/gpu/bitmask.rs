@@ -8,6 +8,26 @@ use crate::{
 };
 use obscura::{reference, AoMode, AoOptions, AoParams, DepthConvention, Estimator, Projection};
 
+/// `run_ao` on linear view depth over the whole image.
+fn run_linear(
+    raw: &[f32],
+    (w, h): (u32, u32),
+    projection: Projection,
+    options: AoOptions,
+    params: &AoParams,
+) -> crate::Run {
+    run_ao(
+        raw,
+        w,
+        h,
+        projection,
+        DepthConvention::LinearView,
+        None,
+        options,
+        params,
+    )
+}
+
 fn bitmask(mode: AoMode) -> AoOptions {
     AoOptions {
         estimator: Estimator::Bitmask,
@@ -31,13 +51,10 @@ fn bitmask_matches_its_mirror_for_every_model() {
                 march_exponent,
                 ..Default::default()
             };
-            let prepared = run_ao(
+            let prepared = run_linear(
                 &raw,
-                W,
-                H,
+                (W, H),
                 projection,
-                DepthConvention::LinearView,
-                None,
                 bitmask(AoMode::Randomized),
                 &params,
             )
@@ -46,16 +63,7 @@ fn bitmask_matches_its_mirror_for_every_model() {
                 .into_iter()
                 .filter(|o| o.estimator == Estimator::Bitmask && o.mode != AoMode::Deinterleaved4)
             {
-                let r = run_ao(
-                    &raw,
-                    W,
-                    H,
-                    projection,
-                    DepthConvention::LinearView,
-                    None,
-                    options,
-                    &params,
-                );
+                let r = run_linear(&raw, (W, H), projection, options, &params);
                 let cpu = reference::ao(&r.frame, &options, &prepared);
                 let what = format!(
                     "{projection:?} thickness {thickness} exponent {march_exponent} {options:?}"
@@ -86,17 +94,7 @@ fn infinitely_thick_bitmask_is_gtao() {
             estimator,
             ..crate::randomized()
         };
-        run_ao(
-            &raw,
-            W,
-            H,
-            projection,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        )
-        .ao
+        run_linear(&raw, (W, H), projection, options, &params).ao
     };
     let (b, g) = (run(Estimator::Bitmask), run(Estimator::Gtao));
     let max = b
@@ -134,13 +132,10 @@ fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
             thickness: thickness / 2.0,
             ..Default::default()
         };
-        run_ao(
+        run_linear(
             &raw,
-            w,
-            h,
+            (w, h),
             projection,
-            DepthConvention::LinearView,
-            None,
             bitmask(AoMode::Randomized),
             &params,
         )

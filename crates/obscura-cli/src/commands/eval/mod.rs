@@ -227,17 +227,18 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 }
             );
         }
+        // Variant i's parameters: its scale and its sampling model.
+        let of_variant = |i: usize| AoParams {
+            scale: scales[i],
+            thickness: model_of[i].thickness,
+            march_exponent: model_of[i].exponent,
+            ..params
+        };
         let mut times = vec![Vec::new(); aos.len()];
         let timing = Timing::best_for(&ctx);
         for round in 0..=a.runs {
             for (i, ao) in aos.iter_mut().enumerate() {
-                let p = AoParams {
-                    scale: scales[i],
-                    thickness: model_of[i].thickness,
-                    march_exponent: model_of[i].exponent,
-                    ..params
-                };
-                let ms = frame_ms(&ctx, ao, &input, &p, timing)?;
+                let ms = frame_ms(&ctx, ao, &input, &of_variant(i), timing)?;
                 if round > 0 {
                     times[i].push(ms);
                 }
@@ -268,12 +269,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     continue;
                 }
                 ao.reset_history();
-                let p = AoParams {
-                    scale: scales[i],
-                    thickness: model_of[i].thickness,
-                    march_exponent: model_of[i].exponent,
-                    ..params
-                };
+                let p = of_variant(i);
                 for _ in 0..frames_of[i] {
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 }
@@ -306,11 +302,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                         _ => obscura::CameraMotion::Cut,
                     };
                     let p = AoParams {
-                        scale: scales[i],
-                        thickness: model_of[i].thickness,
-                        march_exponent: model_of[i].exponent,
                         motion,
-                        ..params
+                        ..of_variant(i)
                     };
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
                 }

@@ -8,8 +8,8 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
-/// The bitmask estimator's model of a variant: `AoParams::thickness` and
-/// `AoParams::march_exponent` (the defaults for other estimators).
+/// A variant's sampling model: `AoParams::thickness` (the bitmask's) and
+/// `AoParams::march_exponent` (GTAO's and the bitmask's); the defaults for other estimators.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Model {
     pub(super) thickness: f32,
@@ -30,7 +30,7 @@ pub(super) struct Variants {
     pub(super) list: Vec<(String, AoOptions)>,
     /// Each variant's `AoParams::scale` (1 but for the scaled ones).
     pub(super) scales: Vec<f32>,
-    /// Each variant's bitmask model.
+    /// Each variant's sampling model.
     pub(super) model_of: Vec<Model>,
     /// Each variant's frame count.
     pub(super) frames_of: Vec<u32>,
