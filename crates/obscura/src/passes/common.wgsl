@@ -123,16 +123,17 @@ fn march_step_px(d: f32, steps: u32) -> f32 {
 }
 
 // Where step s of `steps` lands along a direction (GTAO, bitmask), pixels from the centre,
-// with j the pattern's offset, e the march exponent (frame.model.y) and `cell` the sampling
-// lattice's cell (1, or N for the N x N layers): e = 1 is the even march
-// 1 + (s + j) step_px of every release; above 1 the steps crowd toward the centre, where
-// contact shadows a few pixels wide are (XeGTAO's "sample distribution power"), from one
-// lattice cell out: cell + (1 + step_px steps - cell) ((s + j) / steps)^e, so that short
-// steps do not round onto the centre of a coarser lattice. Mirror: `FrameUniforms::march_ray`.
-fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32) -> f32 {
+// with j the pattern's offset, e the march exponent (the estimator's MARCH_EXPONENT override,
+// so this branch is resolved when the pipeline compiles) and `cell` the sampling lattice's
+// cell (1, or N for the N x N layers): e = 1 is the even march 1 + (s + j) step_px of every
+// release; above 1 the steps crowd toward the centre, where contact shadows a few pixels wide
+// are (XeGTAO's "sample distribution power"), from one lattice cell out:
+// cell + (1 + step_px steps - cell) ((s + j) / steps)^e, so that short steps do not round
+// onto the centre of a coarser lattice. Mirror: `estimators::march_ray`.
+fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32, e: f32) -> f32 {
     let n = f32(steps);
-    if frame.model.y == 1.0 {
+    if e == 1.0 {
         return 1.0 + (f32(s) + j) * step_px;
     }
-    return cell + (1.0 + step_px * n - cell) * pow((f32(s) + j) / n, frame.model.y);
+    return cell + (1.0 + step_px * n - cell) * pow((f32(s) + j) / n, e);
 }

@@ -362,8 +362,6 @@ impl Pass {
             Estimator::Gtao => concat!(
                 include_str!("estimators/gtao_arcs.wgsl"),
                 "\n",
-                include_str!("estimators/slice_march.wgsl"),
-                "\n",
                 include_str!("estimators/gtao.wgsl")
             ),
             Estimator::Vo | Estimator::Vao | Estimator::VoArea => {
@@ -372,8 +370,6 @@ impl Pass {
             Estimator::Sao => include_str!("estimators/sao.wgsl"),
             Estimator::Bitmask => concat!(
                 include_str!("estimators/gtao_arcs.wgsl"),
-                "\n",
-                include_str!("estimators/slice_march.wgsl"),
                 "\n",
                 include_str!("estimators/bitmask.wgsl")
             ),
@@ -588,12 +584,15 @@ impl Pass {
             ("DIRECTIONS", options.directions as f64),
             ("STEPS", options.steps as f64),
         ];
-        // sphere.wgsl serves VO and its area integral (sphere on the surface) and VAO
-        // (sphere offset R/2).
-        let sphere = |e: Estimator| match e {
+        // Each estimator's own: sphere.wgsl serves VO and its area integral (sphere on the
+        // surface) and VAO (sphere offset R/2); GTAO and the bitmask march.
+        let own = |e: Estimator| match e {
             Estimator::Vo => vec![("SPHERE_OFFSET", 0.0)],
             Estimator::Vao => vec![("SPHERE_OFFSET", 0.5)],
             Estimator::VoArea => vec![("SPHERE_OFFSET", 0.0)],
+            Estimator::Gtao | Estimator::Bitmask => {
+                vec![("MARCH_EXPONENT", options.march_exponent as f64)]
+            }
             _ => vec![],
         };
         let rule = |rule: DepthDownsample, level: u32| {
@@ -675,13 +674,13 @@ impl Pass {
             | Pass::SsdoBounce { .. }
             | Pass::SsdoCombine { .. } => vec![],
             Pass::AoFull { estimator: e, bent } => {
-                [&estimator[..], &sphere(e)[..], &bent_constant(e, bent)[..]].concat()
+                [&estimator[..], &own(e)[..], &bent_constant(e, bent)[..]].concat()
             }
             Pass::AoLayered {
                 estimator: e, bent, ..
             } => [
                 &estimator[..],
-                &sphere(e)[..],
+                &own(e)[..],
                 &[split],
                 &bent_constant(e, bent)[..],
             ]

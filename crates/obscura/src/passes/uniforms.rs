@@ -72,8 +72,7 @@ crate::gpu_struct! {
         pub history_max: f32,
         /// The sampling model: x the bitmask estimator's thickness prior, view units
         /// ([`crate::AoParams::thickness`] times the radius; 0 means infinitely thick);
-        /// y the march exponent of GTAO and the bitmask
-        /// ([`crate::AoParams::march_exponent`]); zw unused.
+        /// yzw unused.
         pub model: [f32; 4],
         /// Depth noise σ(d) = noise.x + noise.y · d + noise.z · d², clamped at 0
         /// ([`crate::AoParams::depth_noise`]); w unused (keeps the next field 16-byte
@@ -176,7 +175,7 @@ impl FrameUniforms {
                 Some(params.thickness * params.radius)
                     .filter(|t| t.is_finite())
                     .unwrap_or(0.0),
-                params.march_exponent,
+                0.0,
                 0.0,
                 0.0,
             ],
@@ -297,17 +296,6 @@ impl FrameUniforms {
         self.radius_px(d) / (steps + 1) as f32
     }
 
-    /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction on a
-    /// lattice of `cell` pixels, pixels from the centre; mirrors `march_ray` in
-    /// passes/common.wgsl.
-    pub fn march_ray(&self, s: u32, steps: u32, j: f32, step_px: f32, cell: f32) -> f32 {
-        let n = steps as f32;
-        if self.model[1] == 1.0 {
-            return 1.0 + (s as f32 + j) * step_px;
-        }
-        cell + (1.0 + step_px * n - cell) * ((s as f32 + j) / n).powf(self.model[1])
-    }
-
     /// Depth noise σ at linear depth `d`; mirrors `depth_sigma` in passes/common.wgsl.
     pub fn depth_sigma(&self, d: f32) -> f32 {
         (self.noise[0] + (self.noise[1] + self.noise[2] * d) * d).max(0.0)
@@ -416,6 +404,7 @@ mod tests {
                 estimator: Estimator::ALL[pick(5)],
                 directions: f(4.0).abs().min(100.0) as u32,
                 steps: f(4.0).abs().min(100.0) as u32,
+                march_exponent: f(1.0),
                 mode: AoMode::ALL[pick(3)],
                 resolution: [
                     Resolution::Full,
@@ -457,7 +446,6 @@ mod tests {
                 max_radius_px: f(256.0),
                 scale: f(1.0),
                 thickness: f(0.5),
-                march_exponent: f(1.0),
                 depth_noise: crate::DepthNoise {
                     constant: f(0.0),
                     linear: f(0.0),

@@ -3,9 +3,7 @@
 
 mod params;
 
-pub use params::{
-    AoParams, CameraMotion, DepthNoise, DEFAULT_MARCH_EXPONENT, DEFAULT_THICKNESS, MIN_SCALE,
-};
+pub use params::{AoParams, CameraMotion, DepthNoise, DEFAULT_THICKNESS, MIN_SCALE};
 
 use crate::{Error, Result};
 
@@ -407,6 +405,15 @@ pub struct AoOptions {
     /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 4.
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
+    /// Where GTAO's and the bitmask estimator's steps land along a direction (other
+    /// estimators ignore it). 1: evenly, step k of S (jittered by j) at `1 + (k + j) · R_px/(S+1)`
+    /// pixels, GTAO's march. e > 1: at `c + (1 + R_px · S/(S+1) − c) · ((k + j)/S)^e` pixels,
+    /// `c` the sampling lattice's cell (1, or N in the N×N layouts), so closer together
+    /// near the centre, where contact shadows a few pixels wide are (XeGTAO's sample
+    /// distribution power). An `override` constant like `steps`: the even march compiles
+    /// to exactly the code it was before the exponent existed. Range [1, 4].
+    /// Default [`DEFAULT_MARCH_EXPONENT`].
+    pub march_exponent: f32,
     /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved2`, the best
     /// quality per millisecond measured at full resolution (BENCHMARKS.md,
     /// docs/quality.md): never slower than the single pass, 1.4–2× faster at large radii,
@@ -467,6 +474,9 @@ pub struct AoOptions {
     pub bent_normals: bool,
 }
 
+/// The default [`AoOptions::march_exponent`], chosen over all shared views (docs/thickness.md).
+pub const DEFAULT_MARCH_EXPONENT: f32 = 1.0;
+
 impl Default for AoOptions {
     fn default() -> Self {
         Self {
@@ -474,6 +484,7 @@ impl Default for AoOptions {
             // Preset::High for GTAO (a test checks they agree).
             directions: 4,
             steps: 4,
+            march_exponent: DEFAULT_MARCH_EXPONENT,
             mode: AoMode::default(),
             fused: true,
             jitter: true,
@@ -541,6 +552,12 @@ impl AoOptions {
             "steps",
             self.steps,
             "an integer in 1..=64",
+        )?;
+        check(
+            (1.0..=4.0).contains(&self.march_exponent),
+            "march_exponent",
+            self.march_exponent,
+            "a number in [1, 4]",
         )?;
         check(
             self.history == 0 || (2..=256).contains(&self.history),

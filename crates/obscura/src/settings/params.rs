@@ -89,17 +89,7 @@ pub struct AoParams {
     /// assumes every object is this deep there (docs/thickness.md). `f32::INFINITY`:
     /// infinitely thick, GTAO's assumption. Range > 0. Default [`DEFAULT_THICKNESS`].
     pub thickness: f32,
-    /// Where GTAO's and the bitmask estimator's steps land along a direction: step k of S
-    /// (jittered by j) at `c + (1 + R_px · S/(S+1) − c) · ((k + j)/S)^e` pixels, `e` this
-    /// exponent and `c` the sampling lattice's cell (1, or N in the N×N layouts). 1 spaces them
-    /// evenly (GTAO's march); 2 puts them closer near the centre, where contact shadows a
-    /// few pixels wide are (XeGTAO's sample distribution power). Range [1, 4]. Default
-    /// [`DEFAULT_MARCH_EXPONENT`].
-    pub march_exponent: f32,
 }
-
-/// The default [`AoParams::march_exponent`], chosen over all shared views (docs/thickness.md).
-pub const DEFAULT_MARCH_EXPONENT: f32 = 1.0;
 
 /// The default [`AoParams::thickness`], chosen over all shared views (docs/thickness.md).
 pub const DEFAULT_THICKNESS: f32 = 1.0;
@@ -133,7 +123,6 @@ impl Default for AoParams {
             depth_noise: DepthNoise::NONE,
             scale: 1.0,
             thickness: DEFAULT_THICKNESS,
-            march_exponent: DEFAULT_MARCH_EXPONENT,
         }
     }
 }
@@ -173,12 +162,6 @@ impl AoParams {
             "thickness",
             self.thickness,
             "a number > 0 (times the radius), or infinity",
-        )?;
-        check(
-            (1.0..=4.0).contains(&self.march_exponent),
-            "march_exponent",
-            self.march_exponent,
-            "a number in [1, 4]",
         )?;
         check(
             (MIN_SCALE..=1.0).contains(&self.scale),

@@ -48,7 +48,6 @@ fn bitmask_matches_its_mirror_for_every_model() {
             let params = AoParams {
                 radius: 1.5,
                 thickness,
-                march_exponent,
                 ..Default::default()
             };
             let prepared = run_linear(
@@ -62,6 +61,10 @@ fn bitmask_matches_its_mirror_for_every_model() {
             for options in all_variants()
                 .into_iter()
                 .filter(|o| o.estimator == Estimator::Bitmask && o.mode != AoMode::Deinterleaved4)
+                .map(|o| AoOptions {
+                    march_exponent,
+                    ..o
+                })
             {
                 let r = run_linear(&raw, (W, H), projection, options, &params);
                 let cpu = reference::ao(&r.frame, &options, &prepared);

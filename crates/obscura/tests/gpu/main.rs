@@ -645,6 +645,7 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
             f: &r.frame,
             directions: options.directions,
             steps: options.steps,
+            march_exponent: options.march_exponent,
             prepared: &r.prepared,
             lattice: 1,
             pyramid: &[],

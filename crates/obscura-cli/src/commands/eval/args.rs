@@ -104,7 +104,7 @@ pub struct EvalArgs {
     #[arg(long, value_parser = parse_thickness, value_delimiter = ',')]
     pub thickness: Vec<f32>,
     /// March exponents of GTAO and the bitmask estimator (comma-separated, each in [1, 4];
-    /// see `obscura::AoParams::march_exponent`): with more than one, each of their variants
+    /// see `obscura::AoOptions::march_exponent`): with more than one, each of their variants
     /// runs with each, labelled "eE". Default: the library's.
     #[arg(long, value_delimiter = ',')]
     pub march_exponents: Vec<f32>,

@@ -80,7 +80,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let Variants {
         list: variants,
         scales,
-        model_of,
+        thickness_of,
         frames_of,
         orbit_frames,
     } = variant_list(a)?;
@@ -227,11 +227,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 }
             );
         }
-        // Variant i's parameters: its scale and its sampling model.
+        // Variant i's parameters: its scale and its thickness prior.
         let of_variant = |i: usize| AoParams {
             scale: scales[i],
-            thickness: model_of[i].thickness,
-            march_exponent: model_of[i].exponent,
+            thickness: thickness_of[i],
             ..params
         };
         let mut times = vec![Vec::new(); aos.len()];
@@ -473,7 +472,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             // The variant's thickness prior picks the bitmask's screen-space reference.
             let thickness = k
                 .checked_sub(first_variant)
-                .map_or(obscura::DEFAULT_THICKNESS, |i| model_of[i].thickness);
+                .map_or(obscura::DEFAULT_THICKNESS, |i| thickness_of[i]);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
                 full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });

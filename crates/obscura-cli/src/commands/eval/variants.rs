@@ -8,14 +8,6 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
-/// A variant's sampling model: `AoParams::thickness` (the bitmask's) and
-/// `AoParams::march_exponent` (GTAO's and the bitmask's); the defaults for other estimators.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Model {
-    pub(super) thickness: f32,
-    pub(super) exponent: f32,
-}
-
 /// How one group of variants chooses its sample counts.
 #[derive(Clone, Copy)]
 enum SampleChoice {
@@ -30,8 +22,9 @@ pub(super) struct Variants {
     pub(super) list: Vec<(String, AoOptions)>,
     /// Each variant's `AoParams::scale` (1 but for the scaled ones).
     pub(super) scales: Vec<f32>,
-    /// Each variant's sampling model.
-    pub(super) model_of: Vec<Model>,
+    /// Each variant's `AoParams::thickness` (the bitmask's prior; the default for the
+    /// other estimators).
+    pub(super) thickness_of: Vec<f32>,
     /// Each variant's frame count.
     pub(super) frames_of: Vec<u32>,
     /// The longest frame count: the orbit's length.
@@ -153,7 +146,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     // Each thickness prior (bitmask) and march exponent (GTAO, bitmask) crossed with those
     // estimators' variants ("tT", "eE" after the estimator's name when more than one is
     // given); other estimators run once.
-    let mut single: Vec<(String, AoOptions, f32, Model)> = Vec::new();
+    let mut single: Vec<(String, AoOptions, f32, f32)> = Vec::new();
     let (priors, exponents) = (a.priors(), a.exponents());
     for ((label, o), scale) in variants.drain(..).zip(scales.drain(..)) {
         let marches = matches!(o.estimator, Estimator::Gtao | Estimator::Bitmask);
@@ -178,18 +171,18 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                     name = format!("{name} e{exponent}");
                 }
                 let label = label.replacen(o.estimator.name(), &name, 1);
-                let model = Model {
-                    thickness,
-                    exponent,
+                let o = AoOptions {
+                    march_exponent: exponent,
+                    ..o
                 };
-                single.push((label, o, scale, model));
+                single.push((label, o, scale, thickness));
             }
         }
     }
     let mut frames_of: Vec<u32> = Vec::new();
-    let mut model_of: Vec<Model> = Vec::new();
+    let mut thickness_of: Vec<f32> = Vec::new();
     for &f in &counts {
-        for (label, o, scale, model) in &single {
+        for (label, o, scale, thickness) in &single {
             let (mut label, mut o) = (label.clone(), *o);
             if f > 1 {
                 o.history = a.history;
@@ -198,14 +191,14 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
             variants.push((label, o));
             scales.push(*scale);
             frames_of.push(f);
-            model_of.push(*model);
+            thickness_of.push(*thickness);
         }
     }
     let orbit_frames = counts.iter().copied().max().unwrap_or(1);
     Ok(Variants {
         list: variants,
         scales,
-        model_of,
+        thickness_of,
         frames_of,
         orbit_frames,
     })

@@ -93,7 +93,7 @@ pub struct RenderArgs {
     pub thickness: f32,
     /// GTAO's and the bitmask estimator's march exponent (1..=4): 1 spaces steps evenly,
     /// 2 puts them closer near the centre. Other estimators ignore it.
-    #[arg(long, default_value_t = AoParams::default().march_exponent)]
+    #[arg(long, default_value_t = obscura::DEFAULT_MARCH_EXPONENT)]
     pub march_exponent: f32,
     /// Clamp of the on-screen radius in pixels (1..=4096).
     #[arg(long, default_value_t = AoParams::default().max_radius_px)]
@@ -314,6 +314,7 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
         },
         bent_normals: a.bent_normals_out.is_some()
             || (a.ssdo.is_some() && Estimator::from(a.quality.estimator).has_bent_normals()),
+        march_exponent: a.march_exponent,
         ..a.quality.samples.options(a.quality.estimator.into())
     })
 }
@@ -326,7 +327,6 @@ pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {
         max_radius_px: a.max_radius_px,
         scale: a.resolution.scale,
         thickness: a.thickness,
-        march_exponent: a.march_exponent,
         ..Default::default()
     }
 }

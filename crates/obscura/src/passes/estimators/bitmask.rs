@@ -1,9 +1,8 @@
 //! CPU mirror of the visibility-bitmask estimator (passes/estimators/bitmask.wgsl; same
 //! names, same order of operations).
 
-use super::{
-    gtao_arc, gtao_bent_at, gtao_slice, slice_cos, slice_sample, GtaoSlice, Pixels, Surface,
-};
+use super::{fast_acos, gtao_slice, GtaoSlice, Pixels, Surface};
+use crate::passes::prepare::centre;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, PI};
 
@@ -13,7 +12,15 @@ const SECTORS: f32 = 32.0;
 /// Mirrors `slice_cumulative` in bitmask.wgsl: the slice's running cosine-weighted
 /// integral from 0 to `s · acos(c)`, clamped to the normal's hemisphere.
 pub(crate) fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let (g, h) = gtao_arc(c, s, n, cos_n, sin_n);
+    let t = s * fast_acos(c) - n;
+    let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
+    let sin_h = s * (1.0 - c * c).max(0.0).sqrt();
+    let cos_2h_n = if t.abs() > FRAC_PI_2 {
+        -cos_n
+    } else {
+        (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
+    };
+    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
     if h < 0.0 {
         -g
     } else {
@@ -45,7 +52,11 @@ fn slice_at(h: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
 /// Mirrors `bent_at` in bitmask.wgsl.
 fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> Vec2 {
     let (sh, ch) = h.sin_cos();
-    let f = gtao_bent_at(ch, sh, cos_n, sin_n);
+    let (sh3, ch3) = (sh * sh * sh, ch * ch * ch);
+    let f = Vec2::new(
+        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
+        cos_n * (1.0 - ch3) + sin_n * sh3,
+    ) / 3.0;
     if h < 0.0 {
         -f
     } else {
@@ -152,7 +163,14 @@ pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, 
         let to_bits = SECTORS / total.max(1e-6);
         let mut occluded = 0u32;
         for s in 0..px.steps {
-            let ray = f.march_ray(s, px.steps, pattern[2], step_px, px.lattice as f32);
+            let ray = super::march_ray(
+                s,
+                px.steps,
+                pattern[2],
+                step_px,
+                px.lattice as f32,
+                px.march_exponent,
+            );
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             if off == [0, 0] {
                 continue;
@@ -163,16 +181,28 @@ pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, 
                 } else {
                     [p[0] - off[0], p[1] - off[1]]
                 };
-                let Some(smp) = slice_sample(px, q, pos, axis) else {
+                let Some(sd) = px.depth_at(q) else {
                     continue;
                 };
-                let uf = slice_cumulative(slice_cos(smp.w, v), sgn, n, cos_n, sin_n) - lower;
+                if sd <= 0.0 {
+                    continue;
+                }
+                let at = centre(q);
+                let front = f.view_position(at, sd) - pos;
+                let r2 = front.dot(front) * f.inv_radius2;
+                let wf = front - axis * front.dot(axis);
+                if r2 >= 1.0 || wf.dot(wf) <= 0.0 {
+                    continue;
+                }
+                let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
+                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
                 let mut ub = if sgn > 0.0 { total } else { 0.0 };
                 if thickness > 0.0 {
-                    let back = f.view_position(smp.at, smp.sd + thickness) - pos;
+                    let back = f.view_position(at, sd + thickness) - pos;
                     let wb = back - axis * back.dot(axis);
                     if wb.dot(wb) > 0.0 {
-                        ub = slice_cumulative(slice_cos(wb, v), sgn, n, cos_n, sin_n) - lower;
+                        let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
+                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
                     }
                 }
                 let bit = |u: f32| (u * to_bits).round_ties_even().clamp(0.0, SECTORS) as u32;

@@ -1,6 +1,6 @@
 // Visibility-bitmask AO (Therrien, Levesque & Gilet, "Screen Space Indirect Lighting with
 // Visibility Bitmask", 2023): the estimator only; composed like gtao.wgsl, after
-// gtao_arcs.wgsl (the slice frame and `fast_acos`) and slice_march.wgsl (one sample).
+// gtao_arcs.wgsl (the slice frame and `fast_acos`).
 //
 // GTAO's slices and samples, but a slice keeps a 32-bit field of occluded sectors instead
 // of two horizons. A sample is a solid from its front (the depth seen) to its back (the
@@ -16,6 +16,7 @@
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
+override MARCH_EXPONENT: f32 = 1.0;
 override BENT_NORMALS: bool = false;
 
 const SECTORS: f32 = 32.0;
@@ -24,8 +25,12 @@ const SECTORS: f32 = 32.0;
 // normal's hemisphere n +- pi/2), signed: the running integral D(h) of cos(t - n) |sin t|,
 // D(0) = 0. gtao_side's closed form, with the sign of h.
 fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let a = gtao_arc(c, s, n, cos_n, sin_n);
-    return select(a.x, -a.x, a.y < 0.0);
+    let t = s * fast_acos(c) - n;
+    let h = n + clamp(t, -HALF_PI, HALF_PI);
+    let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
+    let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
+    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
+    return select(g, -g, h < 0.0);
 }
 
 // D at the hemisphere's edge n + e * pi/2 (e = +1 or -1), where cos(2h - n) = -cos n.
@@ -44,7 +49,11 @@ fn slice_at(h: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
 // The running bent-normal integral at angle h, signed like D: gtao_bent's closed form
 // (gtao_arcs.wgsl) at cos h and sin h, in (ortho, V) coordinates.
 fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
-    let f = gtao_bent_at(cos(h), sin(h), cos_n, sin_n);
+    let ch = cos(h);
+    let sh = sin(h);
+    let sh3 = sh * sh * sh;
+    let ch3 = ch * ch * ch;
+    let f = vec2<f32>(cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3), cos_n * (1.0 - ch3) + sin_n * sh3) / 3.0;
     return select(f, -f, h < 0.0);
 }
 
@@ -112,6 +121,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         v = normalize(-pos);
     }
     let step_px = march_step_px(d, STEPS);
+    let size = vec2<i32>(frame.size);
     let thickness = frame.model.x;
     var visibility = 0.0;
     var weights = 0.0;
@@ -141,25 +151,43 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let to_bits = SECTORS / max(total, 1e-6);
         var occluded = 0u;
         for (var s = 0u; s < STEPS; s++) {
-            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell()));
+            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell(), MARCH_EXPONENT));
             // The centre is never its own occluder (gtao.wgsl).
             if all(off == vec2<i32>(0)) {
                 continue;
             }
             for (var side = 0; side < 2; side++) {
-                let sgn = select(-1.0, 1.0, side == 0);
-                let smp = slice_sample(select(p - off, p + off, side == 0), pos, axis);
-                if !smp.ok {
+                var q = p + off;
+                var sgn = 1.0;
+                if side == 1 {
+                    q = p - off;
+                    sgn = -1.0;
+                }
+                if any(q < vec2<i32>(0)) || any(q >= size) {
                     continue;
                 }
-                let uf = slice_cumulative(slice_cos(smp.w, v), sgn, n, cos_n, sin_n) - lower;
+                let sd = sample_depth(q);
+                if sd <= 0.0 {
+                    continue;
+                }
+                let at = vec2<f32>(q) + 0.5;
+                let front = view_position(at, sd) - pos;
+                let r2 = dot(front, front) * frame.inv_radius2;
+                // Measured in the slice plane, as in gtao.wgsl.
+                let wf = front - axis * dot(front, axis);
+                if r2 >= 1.0 || dot(wf, wf) <= 0.0 {
+                    continue;
+                }
+                let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
+                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
                 // Infinitely thick: the solid reaches the hemisphere's edge on this side.
                 var ub = select(0.0, total, sgn > 0.0);
                 if thickness > 0.0 {
-                    let back = view_position(smp.at, smp.sd + thickness) - pos;
+                    let back = view_position(at, sd + thickness) - pos;
                     let wb = back - axis * dot(back, axis);
                     if dot(wb, wb) > 0.0 {
-                        ub = slice_cumulative(slice_cos(wb, v), sgn, n, cos_n, sin_n) - lower;
+                        let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
+                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
                     }
                 }
                 let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));

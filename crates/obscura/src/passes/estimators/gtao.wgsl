@@ -1,8 +1,7 @@
 // Ground-Truth AO (Jimenez, Wu, Pesce & Jarabo, "Practical Realtime Strategies for Accurate
 // Indirect Occlusion", 2016): the estimator only; composed like hbao.wgsl with an entry
 // fragment that provides `snap_offset` and `sample_depth`, after gtao_arcs.wgsl (the
-// slice frame and the closed-form arcs, shared with ssdo_bounce.wgsl) and slice_march.wgsl
-// (one sample of a slice, shared with bitmask.wgsl).
+// slice frame and the closed-form arcs, shared with ssdo_bounce.wgsl).
 //
 // For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep
 // the highest horizon (largest cos between the sample vector and the view vector V).
@@ -19,6 +18,7 @@
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
+override MARCH_EXPONENT: f32 = 1.0;
 override BENT_NORMALS: bool = false;
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
@@ -36,6 +36,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         v = normalize(-pos);
     }
     let step_px = march_step_px(d, STEPS);
+    let size = vec2<i32>(frame.size);
     var visibility = 0.0;
     var weights = 0.0;
     var bent = vec3<f32>(0.0);
@@ -64,7 +65,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         var hc0 = -sin_n;
         var hc1 = sin_n;
         for (var s = 0u; s < STEPS; s++) {
-            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell()));
+            let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell(), MARCH_EXPONENT));
             // A short step snapped to the N x N lattice can land on the centre itself. With
             // the origin raised off the surface (noisy depth) that sample lies straight
             // below it and, on a surface turned over 45 degrees from V, reads as a horizon
@@ -73,11 +74,26 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 continue;
             }
             for (var side = 0; side < 2; side++) {
-                let smp = slice_sample(select(p - off, p + off, side == 0), pos, axis);
-                if !smp.ok {
+                var q = p + off;
+                if side == 1 {
+                    q = p - off;
+                }
+                if any(q < vec2<i32>(0)) || any(q >= size) {
                     continue;
                 }
-                let c = slice_cos(smp.w, v);
+                let sd = sample_depth(q);
+                if sd <= 0.0 {
+                    continue;
+                }
+                let full = view_position(vec2<f32>(q) + 0.5, sd) - pos;
+                let r2 = dot(full, full) * frame.inv_radius2;
+                // Pixel snapping moves samples slightly off the slice plane, where a plane's
+                // points can rise above its in-slice horizon: measure in the slice plane.
+                let w = full - axis * dot(full, axis);
+                if r2 >= 1.0 || dot(w, w) <= 0.0 {
+                    continue;
+                }
+                let c = clamp(dot(w, v) * inverseSqrt(dot(w, w)), -1.0, 1.0);
                 if side == 0 {
                     hc0 = max(hc0, c);
                 } else {

@@ -19,17 +19,11 @@ fn fast_acos(x: f32) -> f32 {
 // hemisphere. cos(2h - n) comes from the double-angle formulas, or is -cos(n) where the
 // clamp holds (h = n +- pi/2), so the slice needs no trigonometric call.
 fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    return gtao_arc(c, s, n, cos_n, sin_n).x;
-}
-
-// gtao_side's arc (x) with its clamped horizon angle h (y), for the bitmask's running
-// integral (bitmask.wgsl), which needs the sign of h.
-fn gtao_arc(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
     let t = s * fast_acos(c) - n;
     let h = n + clamp(t, -HALF_PI, HALF_PI);
     let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
     let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
-    return vec2<f32>((cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25, h);
+    return (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
 }
 
 // One side's share of the slice's bent normal (Jimenez et al. 2016, sec. 5: the cosine-
@@ -51,12 +45,6 @@ fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
         ch = sin_n;
         sh = -cos_n;
     }
-    return gtao_bent_at(ch, sh, cos_n, sin_n);
-}
-
-// gtao_bent's closed form at the horizon's cos h and sin h (also the bitmask's, between
-// the edges of its clear sectors).
-fn gtao_bent_at(ch: f32, sh: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
     let sh3 = sh * sh * sh;
     let ch3 = ch * ch * ch;
     return vec2<f32>(

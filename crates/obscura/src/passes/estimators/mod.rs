@@ -18,6 +18,8 @@ pub struct Pixels<'a> {
     pub f: &'a FrameUniforms,
     pub directions: u32,
     pub steps: u32,
+    /// [`crate::AoOptions::march_exponent`] (GTAO and the bitmask).
+    pub march_exponent: f32,
     pub prepared: &'a [Vec4],
     pub lattice: u32,
     /// The depth pyramid of the full-resolution buffer ([`pyramid`]), for estimators that
@@ -25,6 +27,17 @@ pub struct Pixels<'a> {
     pub pyramid: &'a [PyramidLevel],
     /// The depth moments pyramid ([`moments`]) for VO's area integral; may be empty.
     pub moments: &'a [PyramidLevel],
+}
+
+/// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction on a
+/// lattice of `cell` pixels with march exponent `e`, pixels from the centre; mirrors
+/// `march_ray` in passes/common.wgsl.
+pub fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32, e: f32) -> f32 {
+    let n = steps as f32;
+    if e == 1.0 {
+        return 1.0 + (s as f32 + j) * step_px;
+    }
+    cell + (1.0 + step_px * n - cell) * ((s as f32 + j) / n).powf(e)
 }
 
 /// E[max(z − c, 0)] for z uniform on [lo, hi] (a point where lo = hi); mirrors
@@ -175,12 +188,6 @@ pub(crate) fn fast_acos(x: f32) -> f32 {
 
 /// One side's visible arc of a GTAO slice; mirrors `gtao_side` in passes/estimators/gtao_arcs.wgsl.
 pub(crate) fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    gtao_arc(c, s, n, cos_n, sin_n).0
-}
-
-/// gtao_side's arc with its clamped horizon angle; mirrors `gtao_arc` in
-/// passes/estimators/gtao_arcs.wgsl.
-pub(crate) fn gtao_arc(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> (f32, f32) {
     use std::f32::consts::FRAC_PI_2;
     let t = s * fast_acos(c) - n;
     let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
@@ -190,7 +197,7 @@ pub(crate) fn gtao_arc(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> (f32, 
     } else {
         (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
     };
-    ((cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25, h)
+    (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25
 }
 
 /// One side's share of a GTAO slice's bent normal in (ortho, V) coordinates; mirrors
@@ -205,12 +212,6 @@ fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
     } else {
         (c, s * (1.0 - c * c).max(0.0).sqrt())
     };
-    gtao_bent_at(ch, sh, cos_n, sin_n)
-}
-
-/// gtao_bent's closed form at cos h and sin h; mirrors `gtao_bent_at` in
-/// passes/estimators/gtao_arcs.wgsl.
-pub(crate) fn gtao_bent_at(ch: f32, sh: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
     let (sh3, ch3) = (sh * sh * sh, ch * ch * ch);
     glam::Vec2::new(
         cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
@@ -261,28 +262,6 @@ pub(crate) fn gtao_slice(dir: [f32; 2], v: Vec3, normal: Vec3) -> GtaoSlice {
     }
 }
 
-/// One marched sample of a slice; mirrors `SliceSample` in passes/estimators/slice_march.wgsl.
-pub(crate) struct SliceSample {
-    pub(crate) w: Vec3,
-    pub(crate) at: [f32; 2],
-    pub(crate) sd: f32,
-}
-
-/// Mirrors `slice_sample` in passes/estimators/slice_march.wgsl (`None` for not ok).
-pub(crate) fn slice_sample(px: &Pixels, q: [i32; 2], pos: Vec3, axis: Vec3) -> Option<SliceSample> {
-    let sd = px.depth_at(q).filter(|&sd| sd > 0.0)?;
-    let at = centre(q);
-    let full = px.f.view_position(at, sd) - pos;
-    let r2 = full.dot(full) * px.f.inv_radius2;
-    let w = full - axis * full.dot(axis);
-    (r2 < 1.0 && w.dot(w) > 0.0).then_some(SliceSample { w, at, sd })
-}
-
-/// Mirrors `slice_cos` in passes/estimators/slice_march.wgsl.
-pub(crate) fn slice_cos(w: Vec3, v: Vec3) -> f32 {
-    (w.dot(v) / w.dot(w).sqrt()).clamp(-1.0, 1.0)
-}
-
 /// GTAO of one pixel; mirrors `estimate` in passes/estimators/gtao.wgsl.
 pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     gtao_pixel_bent(px, p, pattern).0
@@ -327,7 +306,14 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
         }
         let mut hc = [-sin_n, sin_n];
         for s in 0..px.steps {
-            let ray = f.march_ray(s, px.steps, pattern[2], step_px, px.lattice as f32);
+            let ray = march_ray(
+                s,
+                px.steps,
+                pattern[2],
+                step_px,
+                px.lattice as f32,
+                px.march_exponent,
+            );
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             // The centre is never its own occluder (gtao.wgsl).
             if off == [0, 0] {
@@ -339,9 +325,19 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
                 } else {
                     [p[0] - off[0], p[1] - off[1]]
                 };
-                if let Some(smp) = slice_sample(px, q, pos, axis) {
-                    *h = h.max(slice_cos(smp.w, v));
+                let Some(sd) = px.depth_at(q) else {
+                    continue;
+                };
+                if sd <= 0.0 {
+                    continue;
                 }
+                let full = f.view_position(centre(q), sd) - pos;
+                let r2 = full.dot(full) * f.inv_radius2;
+                let w = full - axis * full.dot(axis);
+                if r2 >= 1.0 || w.dot(w) <= 0.0 {
+                    continue;
+                }
+                *h = h.max((w.dot(v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
             }
         }
         let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
@@ -589,6 +585,7 @@ fn over_pixels<T>(
         f,
         directions: options.directions,
         steps: options.steps,
+        march_exponent: options.march_exponent,
         prepared,
         lattice,
         pyramid: &levels,

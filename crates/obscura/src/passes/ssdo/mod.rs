@@ -50,6 +50,8 @@ pub fn ssdo_bounce(
         f,
         directions: options.directions,
         steps: options.steps,
+        // SSDO's march is its own (ssdo_bounce.wgsl).
+        march_exponent: 1.0,
         prepared,
         lattice: 1,
         pyramid: &[],
