@@ -63,7 +63,9 @@ def ambient_occlusion(
     """
 
 class Renderer:
-    """One device and one set of compiled passes for many depth maps."""
+    """One device and one set of compiled passes for many depth maps. Threads may share
+    one: calls are serialized inside it, with the GIL released while a map waits for or
+    runs on the device."""
 
     def __init__(
         self,

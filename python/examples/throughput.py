@@ -1,6 +1,8 @@
-"""Throughput of obscura.Renderer: 100 maps of a 640x480 depth map, timed one by one.
+"""Throughput of obscura.Renderer: 100 maps of a 640x480 depth map, timed one by one;
+with --threads N, also maps per second from N threads sharing one Renderer against N
+threads with a Renderer (a device) each, alternated with the serial loop.
 
-    python python/examples/throughput.py [DEPTH_PNG] [--maps 100]
+    python python/examples/throughput.py [DEPTH_PNG] [--maps 100] [--threads 8]
 
 Default map: the shared Redwood map (../shared beside the repository), uint16 millimetres
 with its published intrinsics. Needs numpy and Pillow. The numbers in BENCHMARKS.md come
@@ -24,6 +26,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("depth", type=pathlib.Path, nargs="?", default=REDWOOD)
     ap.add_argument("--maps", type=int, default=100)
+    ap.add_argument("--threads", type=int, default=0)
     args = ap.parse_args()
     with Image.open(args.depth) as im:
         depth = np.array(im).astype(np.uint16)
@@ -49,6 +52,40 @@ def main():
             f"{args.maps / total:.2f} maps/s, median {1e3 * np.median(times):.1f} ms per map"
         )
     print(f"adapter: {renderer.adapter}")
+    if args.threads:
+        threads(depth, k, args.maps, args.threads)
+
+
+def threads(depth, k, maps, n, rounds=3):
+    """Maps per second: serial on one Renderer, n threads sharing it, n threads with one
+    Renderer each (made before the clock starts); the three alternated, `rounds` times,
+    medians printed."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    shared = obscura.Renderer()
+    own = [obscura.Renderer() for _ in range(n)]
+    for r in [shared, *own]:
+        r.render(depth, **k)  # warm-up
+    each = max(1, maps // n)
+    maps = each * n
+    ways = {
+        "serial, one Renderer": lambda pool: [shared.render(depth, **k) for _ in range(maps)],
+        f"{n} threads, one shared Renderer": lambda pool: list(
+            pool.map(lambda i: [shared.render(depth, **k) for _ in range(each)], range(n))
+        ),
+        f"{n} threads, a Renderer each": lambda pool: list(
+            pool.map(lambda i: [own[i].render(depth, **k) for _ in range(each)], range(n))
+        ),
+    }
+    rates = {name: [] for name in ways}
+    with ThreadPoolExecutor(n) as pool:
+        for _ in range(rounds):
+            for name, run in ways.items():
+                start = time.perf_counter()
+                run(pool)
+                rates[name].append(maps / (time.perf_counter() - start))
+    for name, r in rates.items():
+        print(f"{name}: {np.median(r):.2f} maps/s (median of {rounds})")
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ use ::obscura::{AoOptions, AoParams, Denoise, Estimator, GpuContext, Preset, Res
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use std::sync::Mutex;
 
 pyo3::create_exception!(
     obscura,
@@ -160,7 +161,13 @@ fn normal_values(
     let values = a
         .as_slice()
         .map_err(|e| value_error(format!("normals: {e}")))?;
-    Ok(depth_map::view_normals(values, channels, frame).0)
+    let (normals, away) = depth_map::view_normals(values, channels, frame).map_err(to_py)?;
+    if let Some(w) = depth_map::normals_warning(away) {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        py.import("warnings")?
+            .call_method1("warn", (format!("{w} (normals_frame)"), category, 1))?;
+    }
+    Ok(normals)
 }
 
 /// `depth_noise` as the library's model name: None = "auto", a string, or (C, L, Q).
@@ -263,12 +270,18 @@ fn job(
 ///     denoise: "spatial" (default), "none", "box" or "tent".
 ///     frames: frames of a still camera accumulated per map (1 = one frame).
 ///
+/// Threads may share one renderer: calls are serialized inside it (one device runs one
+/// map at a time), and the GIL is released while a map is on the device, so the other
+/// threads meanwhile read their files and prepare their arrays.
+///
 /// Raises:
 ///     ValueError: a bad choice. DeviceError: no adapter could be opened.
 #[pyclass(module = "obscura")]
 struct Renderer {
     ctx: GpuContext,
-    inner: depth_map::Renderer,
+    /// The passes and textures, one map at a time: `render` takes `&self`, so threads that
+    /// share the renderer wait here (with the GIL released) instead of failing to borrow it.
+    inner: Mutex<depth_map::Renderer>,
     frames: u32,
 }
 
@@ -288,7 +301,7 @@ impl Renderer {
         let frames = frames as u32; // checked: 1..=MAX_FRAMES
         py.detach(|| {
             let ctx = GpuContext::new()?;
-            let inner = depth_map::Renderer::new(&ctx, o)?;
+            let inner = Mutex::new(depth_map::Renderer::new(&ctx, o)?);
             Ok(Renderer { ctx, inner, frames })
         })
         .map_err(to_py)
@@ -304,7 +317,7 @@ impl Renderer {
     #[pyo3(signature = (depth, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, thickness=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         depth: &Bound<'py, PyAny>,
         fx: f32,
@@ -336,20 +349,25 @@ impl Renderer {
 impl Renderer {
     /// The AO of a prepared job as a (height, width) float32 array; the GIL is released
     /// while the device works.
-    fn run<'py>(&mut self, py: Python<'py>, job: &Job) -> PyResult<Bound<'py, PyAny>> {
+    fn run<'py>(&self, py: Python<'py>, job: &Job) -> PyResult<Bound<'py, PyAny>> {
         let frames = self.frames;
-        let (ctx, inner) = (&self.ctx, &mut self.inner);
-        let ao = py
-            .detach(|| {
-                inner.render(
-                    ctx,
+        let ao = py.detach(|| {
+            // Poisoned only if a render panicked; its textures may be half-written.
+            let mut inner = self.inner.lock().map_err(|_| {
+                DeviceError::new_err(
+                    "an earlier render on this Renderer panicked: create a new one",
+                )
+            })?;
+            inner
+                .render(
+                    &self.ctx,
                     &job.framed,
                     job.normals.as_deref(),
                     &job.params,
                     frames,
                 )
-            })
-            .map_err(to_py)?;
+                .map_err(to_py)
+        })?;
         let (w, h) = (job.framed.width as usize, job.framed.height as usize);
         Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any())
     }
@@ -422,6 +440,15 @@ fn ambient_occlusion<'py>(
 #[pymodule]
 #[pyo3(name = "obscura")]
 fn obscura_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // As the CLI: no device-select chatter on stderr ("error: XDG_RUNTIME_DIR is invalid")
+    // on headless machines, unless OBSCURA_DEVICE_SELECT is set. Through os.environ, so
+    // Python sees it too.
+    if ::obscura::context::quiet_device_select() {
+        m.py()
+            .import("os")?
+            .getattr("environ")?
+            .set_item("NODEVICE_SELECT", "1")?;
+    }
     m.add_function(wrap_pyfunction!(ambient_occlusion, m)?)?;
     m.add_class::<Renderer>()?;
     m.add("DeviceError", m.py().get_type::<DeviceError>())?;

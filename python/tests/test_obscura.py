@@ -4,6 +4,7 @@ shared depth maps (../shared beside the repository, as for the Rust tests)."""
 import os
 import pathlib
 import subprocess
+import sys
 import tempfile
 
 import numpy as np
@@ -104,8 +105,11 @@ def test_given_normals_are_used():
     # A fourth channel, as the CLI's normal maps may have, is ignored.
     n4 = np.concatenate([n, np.full((128, 128, 1), 7.0, np.float32)], axis=2)
     np.testing.assert_array_equal(obscura.ambient_occlusion(plane(), **k, normals=n4, radius=0.2), ao)
-    # The same normals read in OpenGL axes face away: a different, wrong picture.
-    wrong = obscura.ambient_occlusion(plane(), **k, normals=n, normals_frame="opengl", radius=0.2)
+    # The same normals read in OpenGL axes face away: a different, wrong picture, warned.
+    with pytest.warns(UserWarning, match="face away"):
+        wrong = obscura.ambient_occlusion(
+            plane(), **k, normals=n, normals_frame="opengl", radius=0.2
+        )
     assert np.abs(wrong - ao).max() > 0.05
 
 
@@ -159,6 +163,8 @@ def test_shared_depth_maps_round_trip(renderer, path, k):
         ([[1.0, 2.0], [3.0, 4.0]], centred(2), "numpy array"),
         (np.ones((8, 8), np.float32), dict(centred(8), cx=100.0), "outside"),
         (np.ones((8, 8), np.float32), dict(centred(8), fx=0.0), "fx"),
+        (np.ones((8, 8), np.float32), dict(centred(8), fx=1e30), "field of view"),
+        (np.ones((8, 8), np.float32), dict(centred(8), fy=1e-6), "field of view"),
         (np.where(np.eye(8) * np.eye(8)[3], 2.0, 0.0), centred(8), "span no extent"),
     ],
 )
@@ -186,6 +192,16 @@ def test_bad_options_and_normals_raise_value_error(renderer):
         renderer.render(d, **k, depth_scale=0.0)
     with pytest.raises(ValueError, match="numpy array"):
         renderer.render(d, **k, normals=[[0.0, 0.0, -1.0]] * 64)
+    # The library's rule, as `render --normals-file` applies it: normals of which none is
+    # a vector are a broken array, not a request for normals from depth (that is None).
+    for broken in [np.full((8, 8, 3), np.nan, np.float32), np.zeros((8, 8, 4), np.float32)]:
+        with pytest.raises(ValueError, match="not one is a finite, non-zero vector"):
+            renderer.render(d, **k, normals=broken)
+    # Normals facing away from the camera: the CLI's warning, as a UserWarning.
+    away = np.zeros((8, 8, 3), np.float32)
+    away[..., 2] = 1.0  # OpenCV: z into the scene, so facing away
+    with pytest.warns(UserWarning, match="face away from the camera"):
+        renderer.render(d, **k, normals=away)
     bad_options = [
         dict(estimator="ssao"), dict(preset="max"), dict(resolution="double"),
         dict(frames=0), dict(frames=-1), dict(frames=10**6),
@@ -277,3 +293,46 @@ def test_a_thousand_calls_hold_memory_flat(renderer):
     grown = rss_bytes() - before
     # A leak of one 64x64 float AO image per call alone would be 16 MB.
     assert grown < 8 << 20, f"resident memory grew {grown / 2**20:.1f} MiB over 1000 calls"
+
+
+def test_threads_share_one_renderer_with_serial_results():
+    """Eight threads on one Renderer (a thread pool's use) give exactly the serial results:
+    calls wait for the device in turn instead of raising 'Already borrowed'."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    r = obscura.Renderer()
+    maps = [valley(64, far=2.0 + 0.25 * i) for i in range(8)]
+    k = centred(64)
+    serial = [r.render(m, **k) for m in maps]
+    with ThreadPoolExecutor(8) as pool:
+        for _ in range(3):
+            shared = list(pool.map(lambda m: r.render(m, **k), maps))
+            for a, b in zip(shared, serial):
+                np.testing.assert_array_equal(a, b)
+    assert any(not np.array_equal(serial[0], s) for s in serial[1:]), "maps differ"
+
+
+def quiet_probe(env_extra):
+    """stderr of a fresh interpreter that imports obscura and opens a device, with no
+    display server (XDG_RUNTIME_DIR unset) and `env_extra`, and what it saw of
+    NODEVICE_SELECT."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("NODEVICE_SELECT", "XDG_RUNTIME_DIR", "OBSCURA_DEVICE_SELECT")}
+    env.update(env_extra)
+    code = "import os, obscura; obscura.Renderer(); print(os.environ.get('NODEVICE_SELECT'))"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    return out.stderr, out.stdout.strip()
+
+
+def test_the_device_is_quiet_on_a_headless_machine():
+    # Mesa's device-select layer prints "error: XDG_RUNTIME_DIR is invalid" twice per
+    # device here (measured before the fix); obscura turns the layer off as the CLI does.
+    err, seen = quiet_probe({})
+    assert "XDG_RUNTIME_DIR" not in err and "error" not in err.lower(), err
+    assert seen == "1"
+    # OBSCURA_DEVICE_SELECT keeps the layer (and its messages) for diagnosis, and a
+    # NODEVICE_SELECT the user set is left as it is.
+    assert quiet_probe({"OBSCURA_DEVICE_SELECT": "1"})[1] == "None"
+    assert quiet_probe({"NODEVICE_SELECT": "yes"})[1] == "yes"

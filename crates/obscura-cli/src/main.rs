@@ -40,8 +40,8 @@ enum Command {
 fn main() -> ExitCode {
     // Mesa's Vulkan device-select layer probes for a display server and prints
     // "XDG_RUNTIME_DIR is invalid" on headless machines; obscura chooses adapters itself.
-    // Set before any thread exists.
-    if std::env::var_os("NODEVICE_SELECT").is_none() {
+    // OBSCURA_DEVICE_SELECT keeps it. Set before any thread exists.
+    if obscura::context::quiet_device_select() {
         std::env::set_var("NODEVICE_SELECT", "1");
     }
     let cli = Cli::parse();

@@ -385,6 +385,12 @@ fn bad_input_fails_cleanly() {
         "same point",
     );
     assert_fails("radius", &["render", "--radius=-2"], "--radius");
+    // --help says 2..=256; 0 was once taken as "no history" with --frames > 1.
+    assert_fails(
+        "history0",
+        &["render", "--frames", "4", "--history", "0"],
+        "'0' for '--history <HISTORY>': 0 is not in 2..=256",
+    );
     assert_fails("directions", &["render", "--directions", "0"], "directions");
     assert_fails(
         "huge",
@@ -635,7 +641,7 @@ fn eval_rejects_bad_input() {
                 "--history",
                 "0",
             ][..],
-            "--history must be in 2..=256",
+            "'0' for '--history <HISTORY>': 0 is not in 2..=256",
         ),
         (
             &["eval", "--view", "cornell", "--sensor-noise", "0"][..],
@@ -987,6 +993,36 @@ fn depth_map_writes_float_and_16_bit_ao_and_takes_normals() {
             "12",
         ],
         "expected 8 or 16",
+    );
+    // The library's one rule for normals and intrinsics, as the Python package applies it:
+    // normals of which none is a vector, and a focal length no pinhole has.
+    let nan = d.join("nan.npy");
+    std::fs::write(&nan, npy_f32(&[h, w, 3], &vec![f32::NAN; w * h * 3])).unwrap();
+    let nan = s(&nan).to_string();
+    assert_fails(
+        "normals-nan",
+        &[
+            "render",
+            "--depth",
+            &dp,
+            "--intrinsics",
+            &kp,
+            "--normals-file",
+            &nan,
+        ],
+        "not one is a finite, non-zero vector",
+    );
+    let absurd = d.join("absurd.json");
+    std::fs::write(
+        &absurd,
+        r#"{"fx": 1e30, "fy": 60, "cx": 31.5, "cy": 23.5, "width": 64, "height": 48}"#,
+    )
+    .unwrap();
+    let absurd = s(&absurd).to_string();
+    assert_fails(
+        "fx-absurd",
+        &["render", "--depth", &dp, "--intrinsics", &absurd],
+        "field of view",
     );
     std::fs::remove_dir_all(&d).unwrap();
 }

@@ -20,6 +20,12 @@ use crate::{DepthNoise, Error, NoiseEstimate, Projection, Result};
 /// Largest depth map accepted, per side (the AO still checks the adapter's limit).
 pub const MAX_SIDE: u32 = 16384;
 
+/// The narrowest and widest field of view, degrees, that a pinhole's focal length may give
+/// across its image side ([`Intrinsics::validate`]): below 0.01° the projection's entries
+/// overflow what f32 holds once squared, above 179° no pinhole camera images it (a wider
+/// lens is a fisheye, which these intrinsics cannot describe).
+pub const FOV_RANGE_DEG: (f32, f32) = (0.01, 179.0);
+
 /// The default AO radius as a fraction of the diagonal of the scene's bounds.
 pub const DEFAULT_RADIUS_FRACTION: f32 = 0.03;
 
@@ -49,14 +55,27 @@ pub struct Intrinsics {
 }
 
 impl Intrinsics {
-    /// Checks the focal lengths (finite, > 0), the size (1..=[`MAX_SIDE`]) and that the
-    /// principal point lies in the image (with a pixel of slack).
+    /// Checks the focal lengths (finite, > 0, and a field of view across the image within
+    /// [`FOV_RANGE_DEG`]), the size (1..=[`MAX_SIDE`]) and that the principal point lies in
+    /// the image (with a pixel of slack).
     pub fn validate(&self) -> Result<()> {
         check_size(self.width, self.height)?;
-        for (k, x) in [("fx", self.fx), ("fy", self.fy)] {
+        for (k, x, side) in [("fx", self.fx, self.width), ("fy", self.fy, self.height)] {
             if !(x.is_finite() && x > 0.0) {
                 return Err(invalid(format!(
                     "intrinsics `{k}` = {x} must be finite and > 0"
+                )));
+            }
+            // Field of view 2 atan(side / 2f), so f = side / (2 tan(fov / 2)).
+            let focal = |fov: f32| side as f32 / (2.0 * (fov.to_radians() / 2.0).tan());
+            let (lo, hi) = (focal(FOV_RANGE_DEG.1), focal(FOV_RANGE_DEG.0));
+            if !(lo..=hi).contains(&x) {
+                return Err(invalid(format!(
+                    "intrinsics `{k}` = {x} px gives a {:.3}° field of view across {side} px; \
+                     a pinhole camera's is {}° to {}° (`{k}` from {lo:.3} to {hi:.0} px)",
+                    2.0 * (side as f32 / (2.0 * x)).atan().to_degrees(),
+                    FOV_RANGE_DEG.0,
+                    FOV_RANGE_DEG.1,
                 )));
             }
         }
@@ -417,8 +436,14 @@ pub enum NormalsFrame {
 /// `frame`) as obscura's view-space RGBA rows for [`Renderer::render`] (before
 /// [`Framed::pad`]): zero where a normal is missing, zero or not finite. Also returns the
 /// fraction of the given normals that face away from the camera, a sign that `frame` is
-/// wrong.
-pub fn view_normals(values: &[f32], channels: usize, frame: NormalsFrame) -> (Vec<[f32; 4]>, f32) {
+/// wrong. Normals of which none is a finite non-zero vector (all NaN, all zero) are an
+/// error: they are a broken file or array, not a request for normals from depth (for
+/// which a caller gives none).
+pub fn view_normals(
+    values: &[f32],
+    channels: usize,
+    frame: NormalsFrame,
+) -> Result<(Vec<[f32; 4]>, f32)> {
     let flip = match frame {
         NormalsFrame::OpenCv => -1.0,
         NormalsFrame::OpenGl => 1.0,
@@ -436,7 +461,26 @@ pub fn view_normals(values: &[f32], channels: usize, frame: NormalsFrame) -> (Ve
             [n[0], n[1], n[2], 0.0]
         })
         .collect();
-    (normals, away as f32 / given.max(1) as f32)
+    if given == 0 && !values.is_empty() {
+        return Err(invalid(
+            "normals: not one is a finite, non-zero vector (all NaN, infinite or zero); \
+             give none to derive normals from the depth"
+                .into(),
+        ));
+    }
+    Ok((normals, away as f32 / given as f32))
+}
+
+/// The warning a front end prints when more than half the given normals face away from
+/// the camera ([`view_normals`]'s fraction `away`), or `None`.
+pub fn normals_warning(away: f32) -> Option<String> {
+    (away > 0.5).then(|| {
+        format!(
+            "{:.0}% of the normals face away from the camera: are the axes the other \
+             normals frame (OpenCV or OpenGL)?",
+            100.0 * away
+        )
+    })
 }
 
 /// The depth noise model a front end names for `framed` (the CLI's `--depth-noise`, the
@@ -581,6 +625,51 @@ mod tests {
             width: 8,
             height: 6,
         }
+    }
+
+    #[test]
+    fn focal_lengths_beyond_a_pinholes_field_of_view_are_refused() {
+        intrinsics(4.0, 3.0).validate().unwrap();
+        // 8 px wide: 0.01° of view is fx = 4 / tan(0.005°) = 45,837 px; 179° is
+        // 4 / tan(89.5°) = 0.0349 px. Just inside each bound passes, just outside fails.
+        let with = |fx: f32, fy: f32| Intrinsics {
+            fx,
+            fy,
+            ..intrinsics(4.0, 3.0)
+        };
+        for (fx, fy) in [(4.5e4, 100.0), (0.04, 100.0), (100.0, 3.4e4), (100.0, 0.03)] {
+            with(fx, fy).validate().unwrap();
+        }
+        for (fx, fy, field) in [
+            (1e30, 100.0, "`fx` = 1000000000000000000000000000000 px"),
+            (4.7e4, 100.0, "`fx` = 47000 px"),
+            (0.03, 100.0, "`fx` = 0.03 px"),
+            (100.0, 1e-4, "`fy` = 0.0001 px"),
+        ] {
+            let e = with(fx, fy).validate().unwrap_err().to_string();
+            assert!(e.contains(field) && e.contains("field of view"), "{e}");
+        }
+    }
+
+    #[test]
+    fn normals_none_of_which_is_a_vector_are_refused() {
+        let frame = NormalsFrame::OpenCv;
+        for bad in [[f32::NAN; 3], [0.0; 3], [f32::INFINITY, 0.0, -1.0]] {
+            let values: Vec<f32> = bad.iter().copied().cycle().take(12).collect();
+            let e = view_normals(&values, 3, frame).unwrap_err().to_string();
+            assert!(e.contains("not one is a finite, non-zero vector"), "{e}");
+        }
+        // One good normal among missing ones is accepted; the rest stay missing (zero).
+        let mut values = vec![f32::NAN; 12];
+        values[3..6].copy_from_slice(&[0.0, 0.0, -1.0]);
+        let (n, away) = view_normals(&values, 3, frame).unwrap();
+        assert_eq!(n[1], [0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(n[0], [0.0; 4]);
+        assert_eq!(away, 0.0);
+        // Facing away: the OpenGL reading of OpenCV normals; warned above one half.
+        let (_, away) = view_normals(&values, 3, NormalsFrame::OpenGl).unwrap();
+        assert_eq!(away, 1.0);
+        assert!(normals_warning(away).is_some() && normals_warning(0.5).is_none());
     }
 
     #[test]

@@ -10,6 +10,19 @@ use std::sync::{Arc, Mutex};
 /// The environment variable that forces the adapter choice.
 pub const ADAPTER_ENV: &str = "OBSCURA_ADAPTER";
 
+/// Set (to anything) to keep Mesa's Vulkan device-select layer, which obscura's front ends
+/// (the CLI, the Python package) otherwise turn off with `NODEVICE_SELECT=1`: on a machine
+/// without a display server it prints "error: XDG_RUNTIME_DIR is invalid or not set" twice
+/// per device, though nothing failed, and obscura chooses its adapter itself
+/// ([`ADAPTER_ENV`]).
+pub const DEVICE_SELECT_ENV: &str = "OBSCURA_DEVICE_SELECT";
+
+/// Whether a front end should set `NODEVICE_SELECT=1` before its first device: unless the
+/// user set `NODEVICE_SELECT` (any value turns the layer off) or [`DEVICE_SELECT_ENV`].
+pub fn quiet_device_select() -> bool {
+    std::env::var_os("NODEVICE_SELECT").is_none() && std::env::var_os(DEVICE_SELECT_ENV).is_none()
+}
+
 /// Which adapter to use.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub enum AdapterChoice {

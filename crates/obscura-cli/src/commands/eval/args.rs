@@ -164,7 +164,7 @@ pub struct EvalArgs {
     #[arg(long, value_delimiter = ',', default_value = "1")]
     pub frames: Vec<u32>,
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=256))]
     pub history: u32,
     /// Evaluate on sensor-like depth made from each view's clean depth (the view scaled so
     /// its farthest surface is 5 m; see obscura_eval::sensor), with normals reconstructed
@@ -313,9 +313,6 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
         bail!("--frames needs at least one count");
     }
     let temporal_run = a.temporal_run();
-    if temporal_run && !(2..=256).contains(&a.history) {
-        bail!("--history must be in 2..=256 (got {})", a.history);
-    }
     if a.sensor != SensorArg::None && temporal_run {
         bail!(
             "--sensor evaluates single frames (its noise is drawn once, and the orbit \

@@ -172,7 +172,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=256))]
     pub history: u32,
     /// Orbit the camera this many degrees about the vertical axis through its target over
     /// the frames, writing one PNG per frame to --out-dir.

@@ -302,7 +302,7 @@ pub fn load_normals(
         NormalsFrame::Opencv => obscura::depth_map::NormalsFrame::OpenCv,
         NormalsFrame::Opengl => obscura::depth_map::NormalsFrame::OpenGl,
     };
-    Ok(obscura::depth_map::view_normals(&values, channels, frame))
+    Ok(obscura::depth_map::view_normals(&values, channels, frame)?)
 }
 
 /// `obscura render --depth FILE --intrinsics JSON`.
@@ -347,15 +347,9 @@ pub fn run(a: &RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
                 "normals: {} ({:?} axes){}",
                 path.display(),
                 a.normals_frame,
-                if away > 0.5 {
-                    format!(
-                        "; warning: {:.0}% face away from the camera: are the axes the other \
-                         --normals-frame?",
-                        100.0 * away
-                    )
-                } else {
-                    String::new()
-                }
+                obscura::depth_map::normals_warning(away).map_or(String::new(), |w| format!(
+                    "; warning: {w} (--normals-frame)"
+                ))
             );
             Some(framed.pad(&n)?)
         }
