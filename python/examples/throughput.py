@@ -1,8 +1,9 @@
 """Throughput of obscura.Renderer: 100 maps of a 640x480 depth map, timed one by one;
 with --threads N, also maps per second from N threads sharing one Renderer against N
-threads with a Renderer (a device) each, alternated with the serial loop.
+threads with a Renderer (a device) each, alternated with the serial loop; with --batch,
+render_many against a loop of render.
 
-    python python/examples/throughput.py [DEPTH_PNG] [--maps 100] [--threads 8]
+    python python/examples/throughput.py [DEPTH_PNG] [--maps 100] [--threads 8] [--batch]
 
 Default map: the shared Redwood map (../shared beside the repository), uint16 millimetres
 with its published intrinsics. Needs numpy and Pillow. The numbers in BENCHMARKS.md come
@@ -27,6 +28,7 @@ def main():
     ap.add_argument("depth", type=pathlib.Path, nargs="?", default=REDWOOD)
     ap.add_argument("--maps", type=int, default=100)
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--batch", action="store_true", help="render_many against a loop of render")
     args = ap.parse_args()
     with Image.open(args.depth) as im:
         depth = np.array(im).astype(np.uint16)
@@ -54,6 +56,28 @@ def main():
     print(f"adapter: {renderer.adapter}")
     if args.threads:
         threads(depth, k, args.maps, args.threads)
+    if args.batch:
+        batch(depth, k, args.maps)
+
+
+def batch(depth, k, maps, rounds=3):
+    """Maps per second: a loop of `render` against one `render_many` over the same maps
+    (each a slightly different copy, so no two are alike), alternated `rounds` times."""
+    r = obscura.Renderer()
+    stack = np.stack([depth + i for i in range(maps)]).astype(np.uint16)
+    r.render(stack[0], **k)  # warm-up
+    ways = {
+        "render in a loop": lambda: [r.render(m, **k) for m in stack],
+        "render_many": lambda: r.render_many(stack, **k),
+    }
+    rates = {name: [] for name in ways}
+    for _ in range(rounds):
+        for name, run in ways.items():
+            start = time.perf_counter()
+            run()
+            rates[name].append(maps / (time.perf_counter() - start))
+    for name, rate in rates.items():
+        print(f"{name}: {np.median(rate):.2f} maps/s (median of {rounds})")
 
 
 def threads(depth, k, maps, n, rounds=3):

@@ -189,7 +189,22 @@ fn noise_spec(depth_noise: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
     Ok(v.iter().map(f32::to_string).collect::<Vec<_>>().join(","))
 }
 
-/// Everything about one map that needs the GIL: the map framed, its normals, parameters.
+/// One map's arguments copied out of Python (the part that needs the GIL).
+struct Raw {
+    width: u32,
+    height: u32,
+    values: Vec<f32>,
+    integer: bool,
+    intrinsics: (f32, f32, f32, f32),
+    /// View-space normals, unpadded (`depth_map::view_normals`).
+    normals: Option<Vec<[f32; 4]>>,
+    radius: Option<f32>,
+    depth_scale: Option<f32>,
+    noise: String,
+    thickness: Option<f32>,
+}
+
+/// A map ready for the device: framed, its normals padded, its parameters.
 struct Job {
     framed: Framed,
     normals: Option<Vec<[f32; 4]>>,
@@ -197,18 +212,18 @@ struct Job {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn job(
+fn raw(
     py: Python<'_>,
     depth: &Bound<'_, PyAny>,
-    (fx, fy, cx, cy): (f32, f32, f32, f32),
+    intrinsics: (f32, f32, f32, f32),
     radius: Option<f32>,
     normals: Option<&Bound<'_, PyAny>>,
     normals_frame: &str,
     depth_scale: Option<f32>,
     depth_noise: Option<&Bound<'_, PyAny>>,
     thickness: Option<f32>,
-) -> PyResult<Job> {
-    let (w, h, values, integer) = depth_values(py, depth)?;
+) -> PyResult<Raw> {
+    let (width, height, values, integer) = depth_values(py, depth)?;
     if let Some(s) = depth_scale {
         if !(s.is_finite() && s > 0.0) {
             return Err(value_error(format!(
@@ -216,47 +231,67 @@ fn job(
             )));
         }
     }
-    // The scale applies to integer maps (millimetres by default); floats are scene units
-    // unless a scale is given.
-    let map = if integer {
-        DepthMap::from_integer(w, h, values, depth_scale.unwrap_or(0.001))
-    } else {
-        let s = depth_scale.unwrap_or(1.0);
-        DepthMap::from_float(w, h, values.into_iter().map(|d| d * s).collect())
-    }
-    .map_err(to_py)?;
-    let k = Intrinsics {
-        fx,
-        fy,
-        cx,
-        cy,
-        width: w,
-        height: h,
-    };
-    let framed = map.frame(&k).map_err(to_py)?;
     let normals = match normals {
-        Some(n) => Some(
-            framed
-                .pad(&normal_values(py, n, w, h, normals_frame)?)
-                .map_err(to_py)?,
-        ),
+        Some(n) => Some(normal_values(py, n, width, height, normals_frame)?),
         None => None,
     };
-    let (depth_noise, _) =
-        depth_map::noise_model(&noise_spec(depth_noise)?, &framed).map_err(to_py)?;
-    let radius = framed.radius(radius).map_err(to_py)?;
-    let params = AoParams {
-        radius,
-        depth_noise,
-        thickness: thickness.unwrap_or(obscura::DEFAULT_THICKNESS),
-        ..Default::default()
-    };
-    params.validate().map_err(to_py)?;
-    Ok(Job {
-        framed,
+    Ok(Raw {
+        width,
+        height,
+        values,
+        integer,
+        intrinsics,
         normals,
-        params,
+        radius,
+        depth_scale,
+        noise: noise_spec(depth_noise)?,
+        thickness,
     })
+}
+
+impl Raw {
+    /// Frames the map, estimates its noise and checks its parameters: CPU work that needs
+    /// no GIL (the noise estimate is tens of milliseconds at 640×480).
+    fn prepare(self) -> PyResult<Job> {
+        // The scale applies to integer maps (millimetres by default); floats are scene
+        // units unless a scale is given.
+        let (w, h) = (self.width, self.height);
+        let map = if self.integer {
+            DepthMap::from_integer(w, h, self.values, self.depth_scale.unwrap_or(0.001))
+        } else {
+            let s = self.depth_scale.unwrap_or(1.0);
+            DepthMap::from_float(w, h, self.values.into_iter().map(|d| d * s).collect())
+        }
+        .map_err(to_py)?;
+        let (fx, fy, cx, cy) = self.intrinsics;
+        let k = Intrinsics {
+            fx,
+            fy,
+            cx,
+            cy,
+            width: w,
+            height: h,
+        };
+        let framed = map.frame(&k).map_err(to_py)?;
+        let normals = match self.normals {
+            Some(n) => Some(framed.pad(&n).map_err(to_py)?),
+            None => None,
+        };
+        let (depth_noise, _) = depth_map::noise_model(&self.noise, &framed).map_err(to_py)?;
+        let radius = framed.radius(self.radius).map_err(to_py)?;
+        let params = AoParams {
+            radius,
+            depth_noise,
+            thickness: self.thickness.unwrap_or(obscura::DEFAULT_THICKNESS),
+            ..Default::default()
+        };
+        params.validate().map_err(to_py)?;
+        Ok(Job {
+            framed,
+            normals,
+            params,
+        })
+    }
 }
 
 /// Renders AO of depth maps with one device and passes compiled once: create it once and
@@ -331,7 +366,7 @@ impl Renderer {
         depth_noise: Option<&Bound<'py, PyAny>>,
         thickness: Option<f32>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let job = job(
+        let raw = raw(
             py,
             depth,
             (fx, fy, cx, cy),
@@ -342,34 +377,200 @@ impl Renderer {
             depth_noise,
             thickness,
         )?;
-        self.run(py, &job)
+        let (w, h) = (raw.width as usize, raw.height as usize);
+        let ao = py.detach(|| {
+            let job = raw.prepare()?;
+            self.render_job(&mut *self.lock()?, &job)
+        })?;
+        Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any())
+    }
+
+    /// Ambient occlusion of many depth maps: an (N, height, width) array in, an (N, height,
+    /// width) float32 array out; a sequence of 2-D arrays in (sizes may differ), a list
+    /// out. Each intrinsic and `radius` is one number for every map or a sequence of N;
+    /// `normals` is None or N arrays (None among them: that map's from depth); the other arguments are shared (see
+    /// `obscura.ambient_occlusion`). The maps are prepared (framed, noise estimated) on a
+    /// second thread while the device renders the one before, and rendered grouped by
+    /// size, so the textures are made once per size. The GIL is released throughout the
+    /// device work. Results equal `render` on each map.
+    ///
+    /// Raises:
+    ///     ValueError: bad input, naming the map ("map 3: ..."); no map's AO is returned.
+    #[pyo3(signature = (maps, *, fx, fy, cx, cy, radius=None, normals=None, normals_frame="opencv", depth_scale=None, depth_noise=None, thickness=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn render_many<'py>(
+        &self,
+        py: Python<'py>,
+        maps: &Bound<'py, PyAny>,
+        fx: &Bound<'py, PyAny>,
+        fy: &Bound<'py, PyAny>,
+        cx: &Bound<'py, PyAny>,
+        cy: &Bound<'py, PyAny>,
+        radius: Option<&Bound<'py, PyAny>>,
+        normals: Option<&Bound<'py, PyAny>>,
+        normals_frame: &str,
+        depth_scale: Option<f32>,
+        depth_noise: Option<&Bound<'py, PyAny>>,
+        thickness: Option<f32>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let np = py.import("numpy")?;
+        let stacked = maps.is_instance(&np.getattr("ndarray")?)?;
+        let items: Vec<Bound<'py, PyAny>> = if stacked {
+            let ndim: usize = maps.getattr("ndim")?.extract()?;
+            if ndim != 3 {
+                return Err(value_error(format!(
+                    "maps: a {ndim}-D array; render_many takes (N, height, width) or a \
+                     sequence of 2-D maps (one map: render)"
+                )));
+            }
+            maps.try_iter()?.collect::<PyResult<_>>()?
+        } else {
+            maps.try_iter()
+                .map_err(|_| {
+                    value_error("maps: expected an (N, height, width) array or a sequence".into())
+                })?
+                .collect::<PyResult<_>>()?
+        };
+        let n = items.len();
+        let [fx, fy, cx, cy] =
+            [("fx", fx), ("fy", fy), ("cx", cx), ("cy", cy)].map(|(name, v)| each(name, v, n));
+        let (fx, fy, cx, cy) = (fx?, fy?, cx?, cy?);
+        let radius: Vec<Option<f32>> = match radius {
+            None => vec![None; n],
+            Some(r) => each("radius", r, n)?.into_iter().map(Some).collect(),
+        };
+        let normals: Vec<Option<Bound<'py, PyAny>>> = match normals {
+            None => vec![None; n],
+            Some(list) => {
+                let v: Vec<Bound<'py, PyAny>> = list
+                    .try_iter()
+                    .map_err(|_| value_error("normals: expected N arrays".into()))?
+                    .collect::<PyResult<_>>()?;
+                if v.len() != n {
+                    return Err(value_error(format!(
+                        "normals: {} arrays for {n} maps",
+                        v.len()
+                    )));
+                }
+                // None for a map: its normals from depth.
+                v.into_iter().map(|a| (!a.is_none()).then_some(a)).collect()
+            }
+        };
+        let mut raws = Vec::with_capacity(n);
+        for (i, depth) in items.iter().enumerate() {
+            let r = raw(
+                py,
+                depth,
+                (fx[i], fy[i], cx[i], cy[i]),
+                radius[i],
+                normals[i].as_ref(),
+                normals_frame,
+                depth_scale,
+                depth_noise,
+                thickness,
+            );
+            raws.push(r.map_err(|e| of_map(py, i, e))?);
+        }
+        let sizes: Vec<(usize, usize)> = raws
+            .iter()
+            .map(|r| (r.height as usize, r.width as usize))
+            .collect();
+        let aos = py.detach(|| self.render_all(raws))?;
+        let arrays = aos
+            .into_iter()
+            .zip(sizes)
+            .map(|(ao, (h, w))| Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any()))
+            .collect::<PyResult<Vec<_>>>()?;
+        if stacked {
+            if arrays.is_empty() {
+                let shape: Vec<usize> = maps.getattr("shape")?.extract()?;
+                return np.call_method1("zeros", (shape, "float32"));
+            }
+            return np.call_method1("stack", (arrays,));
+        }
+        Ok(pyo3::types::PyList::new(py, arrays)?.into_any())
+    }
+}
+
+/// `v` for each of `n` maps: one number for all, or a sequence of `n` numbers.
+fn each(name: &str, v: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<f32>> {
+    if let Ok(x) = v.extract::<f32>() {
+        return Ok(vec![x; n]);
+    }
+    let xs: Vec<f32> = v.extract().map_err(|_| {
+        value_error(format!(
+            "{name}: expected a number or a sequence of {n} numbers"
+        ))
+    })?;
+    if xs.len() != n {
+        return Err(value_error(format!(
+            "{name}: {} values for {n} maps",
+            xs.len()
+        )));
+    }
+    Ok(xs)
+}
+
+/// `e` naming map `i`, when it is about the input (a `ValueError`).
+fn of_map(py: Python<'_>, i: usize, e: PyErr) -> PyErr {
+    if e.is_instance_of::<PyValueError>(py) {
+        value_error(format!("map {i}: {}", e.value(py)))
+    } else {
+        e
     }
 }
 
 impl Renderer {
-    /// The AO of a prepared job as a (height, width) float32 array; the GIL is released
-    /// while the device works.
-    fn run<'py>(&self, py: Python<'py>, job: &Job) -> PyResult<Bound<'py, PyAny>> {
-        let frames = self.frames;
-        let ao = py.detach(|| {
-            // Poisoned only if a render panicked; its textures may be half-written.
-            let mut inner = self.inner.lock().map_err(|_| {
-                DeviceError::new_err(
-                    "an earlier render on this Renderer panicked: create a new one",
-                )
-            })?;
-            inner
-                .render(
-                    &self.ctx,
-                    &job.framed,
-                    job.normals.as_deref(),
-                    &job.params,
-                    frames,
-                )
-                .map_err(to_py)
-        })?;
-        let (w, h) = (job.framed.width as usize, job.framed.height as usize);
-        Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any())
+    /// The device's passes, one map at a time. Poisoned only if a render panicked; its
+    /// textures may then be half-written.
+    fn lock(&self) -> PyResult<std::sync::MutexGuard<'_, depth_map::Renderer>> {
+        self.inner.lock().map_err(|_| {
+            DeviceError::new_err("an earlier render on this Renderer panicked: create a new one")
+        })
+    }
+
+    /// The AO of a prepared map, row-major (call without the GIL).
+    fn render_job(&self, inner: &mut depth_map::Renderer, job: &Job) -> PyResult<Vec<f32>> {
+        inner
+            .render(
+                &self.ctx,
+                &job.framed,
+                job.normals.as_deref(),
+                &job.params,
+                self.frames,
+            )
+            .map_err(to_py)
+    }
+
+    /// The AO of every map, in order (call without the GIL): a second thread prepares the
+    /// maps, grouped by size, while this one renders the map before.
+    fn render_all(&self, raws: Vec<Raw>) -> PyResult<Vec<Vec<f32>>> {
+        let mut order: Vec<usize> = (0..raws.len()).collect();
+        order.sort_by_key(|&i| (raws[i].width, raws[i].height));
+        let mut slots: Vec<Option<Raw>> = raws.into_iter().map(Some).collect();
+        let queue: Vec<(usize, Raw)> = order
+            .iter()
+            .filter_map(|&i| slots[i].take().map(|r| (i, r)))
+            .collect();
+        let mut out: Vec<Vec<f32>> = vec![Vec::new(); slots.len()];
+        let mut inner = self.lock()?;
+        std::thread::scope(|scope| {
+            // One map prepared ahead of the device: the channel holds one.
+            let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, PyResult<Job>)>(1);
+            scope.spawn(move || {
+                for (i, raw) in queue {
+                    // A closed channel: the device side stopped at an error.
+                    if tx.send((i, raw.prepare())).is_err() {
+                        break;
+                    }
+                }
+            });
+            for (i, job) in rx {
+                let job = job.map_err(|e| Python::attach(|py| of_map(py, i, e)))?;
+                out[i] = self.render_job(&mut inner, &job)?;
+            }
+            Ok(out)
+        })
     }
 }
 
@@ -423,7 +624,7 @@ fn ambient_occlusion<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     // Input first, so bad input is a ValueError even without a device.
     options(estimator, preset, resolution, denoise, frames)?;
-    let job = job(
+    let raw = raw(
         py,
         depth,
         (fx, fy, cx, cy),
@@ -434,11 +635,86 @@ fn ambient_occlusion<'py>(
         depth_noise,
         thickness,
     )?;
-    Renderer::new(py, estimator, preset, resolution, denoise, frames)?.run(py, &job)
+    let (w, h) = (raw.width as usize, raw.height as usize);
+    let job = py.detach(|| raw.prepare())?;
+    let r = Renderer::new(py, estimator, preset, resolution, denoise, frames)?;
+    let ao = py.detach(|| r.render_job(&mut *r.lock()?, &job))?;
+    Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any())
+}
+
+/// Writes an AO image (a 2-D float array, 1 = unoccluded) to `path` by its extension, as
+/// `obscura render --out` does: `.npy` float32, `.exr` float32 (the value in R, G and B),
+/// `.png` 16-bit grey (round(ao · 65535), clamped to [0, 1]). Atomic: the file is written
+/// beside its name and renamed, so a file that exists is complete.
+///
+/// Raises:
+///     ValueError: not a 2-D float32 array, or another extension. OSError: the write failed.
+#[pyfunction]
+fn save_ao(py: Python<'_>, path: std::path::PathBuf, ao: &Bound<'_, PyAny>) -> PyResult<()> {
+    let a: PyReadonlyArray2<f32> = ao
+        .extract()
+        .map_err(|_| value_error("ao must be a 2-D float32 numpy array".into()))?;
+    let view = a.as_array();
+    let (h, w) = view.dim();
+    // Row-major whatever the array's order or strides.
+    let values = view.iter().copied().collect::<Vec<f32>>();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if !matches!(ext.as_str(), "npy" | "exr" | "png") {
+        return Err(value_error(format!(
+            "{}: expected .npy, .exr or .png",
+            path.display()
+        )));
+    }
+    let (w, h) = (w as u32, h as u32);
+    py.detach(|| {
+        let mut name = path.file_name().unwrap_or_default().to_os_string();
+        name.push(".partial");
+        let tmp = path.with_file_name(name);
+        let encoded = |bytes: &[u8], color, format| {
+            image::save_buffer_with_format(&tmp, bytes, w, h, color, format)
+                .map_err(|e| e.to_string())
+        };
+        let written = match ext.as_str() {
+            "npy" => std::fs::write(&tmp, depth_map::npy_f32(&values, &[h, w]))
+                .map_err(|e| e.to_string()),
+            "exr" => {
+                let rgb: Vec<u8> = values
+                    .iter()
+                    .flat_map(|&v| [v; 3])
+                    .flat_map(f32::to_ne_bytes)
+                    .collect();
+                encoded(
+                    &rgb,
+                    image::ExtendedColorType::Rgb32F,
+                    image::ImageFormat::OpenExr,
+                )
+            }
+            _ => {
+                let grey: Vec<u8> = values
+                    .iter()
+                    .flat_map(|v| ((v.clamp(0.0, 1.0) * 65535.0).round() as u16).to_ne_bytes())
+                    .collect();
+                encoded(
+                    &grey,
+                    image::ExtendedColorType::L16,
+                    image::ImageFormat::Png,
+                )
+            }
+        }
+        .and_then(|()| std::fs::rename(&tmp, &path).map_err(|e| e.to_string()));
+        written.map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            pyo3::exceptions::PyOSError::new_err(format!("cannot write {}: {e}", path.display()))
+        })
+    })
 }
 
 #[pymodule]
-#[pyo3(name = "obscura")]
+#[pyo3(name = "_obscura")]
 fn obscura_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // As the CLI: no device-select chatter on stderr ("error: XDG_RUNTIME_DIR is invalid")
     // on headless machines, unless OBSCURA_DEVICE_SELECT is set. Through os.environ, so
@@ -450,6 +726,7 @@ fn obscura_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
             .set_item("NODEVICE_SELECT", "1")?;
     }
     m.add_function(wrap_pyfunction!(ambient_occlusion, m)?)?;
+    m.add_function(wrap_pyfunction!(save_ao, m)?)?;
     m.add_class::<Renderer>()?;
     m.add("DeviceError", m.py().get_type::<DeviceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -336,3 +336,115 @@ def test_the_device_is_quiet_on_a_headless_machine():
     # NODEVICE_SELECT the user set is left as it is.
     assert quiet_probe({"OBSCURA_DEVICE_SELECT": "1"})[1] == "None"
     assert quiet_probe({"NODEVICE_SELECT": "yes"})[1] == "yes"
+
+
+def test_render_many_equals_render_on_each_map(renderer):
+    """A stack, a list of mixed sizes (returned in order), per-map intrinsics and radii,
+    per-map normals: each result equals `render` on that map exactly."""
+    k = centred(64)
+    stack = np.stack([valley(64, far=2.0 + 0.3 * i) for i in range(4)])
+    many = renderer.render_many(stack, **k)
+    assert many.shape == (4, 64, 64) and many.dtype == np.float32
+    for m, a in zip(stack, many):
+        np.testing.assert_array_equal(a, renderer.render(m, **k))
+    # Mixed sizes and per-map intrinsics, interleaved so the grouping by size reorders.
+    maps = [valley(64), plane(48, 1.5), valley(96, far=2.5), plane(48, 3.0), valley(64, 2.2)]
+    fx = [64.0, 40.0, 96.0, 60.0, 70.0]
+    cx = [(m.shape[1] - 1) / 2 for m in maps]
+    cy = [(m.shape[0] - 1) / 2 for m in maps]
+    radius = [0.3, 0.2, 0.4, 0.2, 0.3]
+    got = renderer.render_many(maps, fx=fx, fy=fx, cx=cx, cy=cy, radius=radius)
+    assert isinstance(got, list) and len(got) == len(maps)
+    for i, (m, a) in enumerate(zip(maps, got)):
+        want = renderer.render(m, fx=fx[i], fy=fx[i], cx=cx[i], cy=cy[i], radius=radius[i])
+        np.testing.assert_array_equal(a, want)
+    # Normals per map.
+    n = np.zeros((64, 64, 3), np.float32)
+    n[..., 2] = -1.0
+    with_normals = renderer.render_many([valley(64), valley(64)], **k, normals=[n, None])
+    np.testing.assert_array_equal(with_normals[0], renderer.render(valley(64), **k, normals=n))
+    np.testing.assert_array_equal(with_normals[1], renderer.render(valley(64), **k))
+    assert renderer.render_many([], **k) == []
+
+
+def test_render_many_names_the_bad_map(renderer):
+    k = centred(16)
+    good = plane(16)
+    cases = [
+        (([good, good, np.full((16, 16), np.nan, np.float32)], k), "map 2: .*no valid depth"),
+        (([good, [[1.0]]], k), "map 1: depth must be a numpy array"),
+        (([good, good], dict(k, fx=[16.0])), "fx: 1 values for 2 maps"),
+        (([good, good], dict(k, fy="wide")), "fy: expected a number or a sequence"),
+        ((good, k), "render_many takes"),
+        ((5, k), "maps: expected"),
+        (([good, good], dict(k, normals=[None])), "normals: 1 arrays for 2 maps"),
+    ]
+    for (maps, kw), says in cases:
+        with pytest.raises(ValueError, match=says):
+            renderer.render_many(maps, **kw)
+
+
+def test_dask_writes_what_one_renderer_writes_and_reports_the_bad_file(tmp_path):
+    """Two LocalCluster workers over maps made here: every output equals a single-process
+    Renderer's exactly, in each format; a corrupt file is reported and skipped, the others
+    written; a rerun skips every complete output."""
+    pytest.importorskip("distributed")
+    from PIL import Image
+
+    from obscura.dask import ao_files, load_depth
+
+    src = tmp_path / "depth"
+    src.mkdir()
+    k = dict(fx=48.0, fy=48.0, cx=31.5, cy=23.5, width=64, height=48, depth_scale=0.001)
+    for i in range(5):
+        mm = (valley(64, far=2.0 + 0.2 * i)[:48] * 1000).astype(np.uint16)
+        if i % 2:
+            np.save(src / f"map{i}.npy", mm.astype(np.float32) / 1000)  # metres
+        else:
+            Image.fromarray(mm).save(src / f"map{i}.png")  # millimetres, 16-bit
+    (src / "broken.png").write_bytes(b"\x89PNG not really")
+    out = tmp_path / "ao"
+    report = ao_files(src, out, intrinsics=k, workers=2, output=".npy", progress=False)
+    assert sorted(pathlib.Path(p).name for p in report.written) == [
+        f"map{i}{'.npy' if i % 2 else '.png'}" for i in range(5)
+    ]
+    assert [pathlib.Path(p).name for p, _ in report.failed] == ["broken.png"]
+    assert report.skipped == []
+    r = obscura.Renderer()
+    for i in range(5):
+        depth = load_depth(next(src.glob(f"map{i}.*")))
+        scale = 0.001 if depth.dtype == np.uint16 else None
+        want = r.render(depth, fx=48.0, fy=48.0, cx=31.5, cy=23.5, depth_scale=scale)
+        np.testing.assert_array_equal(np.load(out / f"map{i}_ao.npy"), want)
+    # A rerun skips the complete outputs and tries the broken file again.
+    again = ao_files(src, out, intrinsics=k, workers=1, progress=False)
+    assert len(again.skipped) == 5 and again.written == [] and len(again.failed) == 1
+    # The other formats: 16-bit PNG and EXR hold the same AO (PNG within half a step).
+    for suffix in [".png", ".exr"]:
+        fmt = ao_files([src / "map0.png"], out, intrinsics=k, output=suffix, workers=1,
+                       progress=False)
+        assert len(fmt.written) == 1, fmt
+    want = np.load(out / "map0_ao.npy")
+    with Image.open(out / "map0_ao.png") as im:
+        assert im.mode.startswith("I;16")
+        png = np.array(im).astype(np.float32) / 65535
+    assert np.abs(png - want).max() <= 0.5 / 65535 + 1e-7
+    assert (out / "map0_ao.exr").read_bytes()[:4] == b"\x76\x2f\x31\x01"  # EXR magic
+    # No partial files are left behind.
+    assert not list(out.glob("*.partial"))
+    # Bad Renderer options fail the run at once, with the Renderer's message.
+    with pytest.raises(ValueError, match="preset `max`"):
+        ao_files(src, tmp_path / "none", intrinsics=k, workers=1, preset="max", progress=False)
+
+
+def test_save_ao_refuses_what_it_cannot_write(tmp_path):
+    ao = np.ones((4, 4), np.float32)
+    with pytest.raises(ValueError, match="expected .npy, .exr or .png"):
+        obscura.save_ao(tmp_path / "ao.tiff", ao)
+    with pytest.raises(ValueError, match="2-D float32"):
+        obscura.save_ao(tmp_path / "ao.npy", np.ones((4, 4, 2), np.float32))
+    with pytest.raises(OSError, match="cannot write"):
+        obscura.save_ao(tmp_path / "no" / "such" / "dir" / "ao.npy", ao)
+    obscura.save_ao(tmp_path / "ao.npy", ao[:, ::2])  # any strides
+    np.testing.assert_array_equal(np.load(tmp_path / "ao.npy"), ao[:, ::2])
+    assert [p.name for p in tmp_path.iterdir()] == ["ao.npy"]

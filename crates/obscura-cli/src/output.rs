@@ -101,7 +101,10 @@ pub fn save_vectors(path: &Path, v: &[[f32; 3]], width: u32, height: u32) -> Res
         .to_ascii_lowercase();
     let flat: Vec<f32> = v.iter().flatten().copied().collect();
     match ext.as_str() {
-        "npy" => write_bytes(path, &npy(&flat, &[height, width, 3])),
+        "npy" => write_bytes(
+            path,
+            &obscura::depth_map::npy_f32(&flat, &[height, width, 3]),
+        ),
         "exr" => save_exr_rgb(path, &flat, width, height),
         _ => {
             let rgb: Vec<u8> = v
@@ -135,29 +138,9 @@ fn save_exr_rgb(path: &Path, rgb: &[f32], width: u32, height: u32) -> Result<()>
     )
 }
 
-/// A version-1 `.npy` file holding `values` as a little-endian float32 array of shape
-/// (height, width) in C order (the NumPy format specification, NEP 1).
+/// A `.npy` file holding `values` as a float32 array of shape (height, width).
 pub fn npy_f32(values: &[f32], width: u32, height: u32) -> Vec<u8> {
-    npy(values, &[height, width])
-}
-
-/// A version-1 `.npy` file of little-endian float32 `values` of `shape`, C order.
-fn npy(values: &[f32], shape: &[u32]) -> Vec<u8> {
-    let dims: Vec<String> = shape.iter().map(u32::to_string).collect();
-    let mut header = format!(
-        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}), }}",
-        dims.join(", ")
-    );
-    // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend(values.iter().flat_map(|v| v.to_le_bytes()));
-    out
+    obscura::depth_map::npy_f32(values, &[height, width])
 }
 
 /// Writes `bytes` to `path` atomically.

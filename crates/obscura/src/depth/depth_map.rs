@@ -471,6 +471,27 @@ pub fn view_normals(
     Ok((normals, away as f32 / given as f32))
 }
 
+/// A version-1 `.npy` file of little-endian float32 `values` of `shape`, C order (NumPy's
+/// format, NEP 1): magic, version, header length, the header padded so the data starts at a
+/// multiple of 64 bytes, the data. The AO files the CLI and the Python package write.
+pub fn npy_f32(values: &[f32], shape: &[u32]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(u32::to_string).collect();
+    let mut header = format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}), }}",
+        dims.join(", ")
+    );
+    // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+    out
+}
+
 /// The warning a front end prints when more than half the given normals face away from
 /// the camera ([`view_normals`]'s fraction `away`), or `None`.
 pub fn normals_warning(away: f32) -> Option<String> {

@@ -2,7 +2,8 @@
 (lavapipe). Depth in, AO out (float32, 1 = unoccluded); the same rules and messages as
 `obscura render --depth`."""
 
-from typing import Optional, Sequence, Tuple, Union
+import os
+from typing import List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -10,6 +11,11 @@ import numpy.typing as npt
 __version__: str
 
 DepthNoise = Union[str, Tuple[float, float, float], Sequence[float], None]
+
+def save_ao(path: Union[str, "os.PathLike[str]"], ao: npt.NDArray[np.float32]) -> None:
+    """Writes a 2-D float32 AO array by extension, as `obscura render --out`: .npy float32,
+    .exr float32, .png 16-bit grey. Atomic (written beside, then renamed). ValueError for
+    another array or extension, OSError when the write fails."""
 
 class DeviceError(RuntimeError):
     """No usable GPU or software adapter, or the device failed (out of memory, lost)."""
@@ -96,3 +102,39 @@ class Renderer:
     ) -> npt.NDArray[np.float32]:
         """The AO of one depth map; arguments as `ambient_occlusion`. Releases the GIL
         while the device works."""
+    @overload
+    def render_many(
+        self,
+        maps: npt.NDArray[Union[np.float16, np.float32, np.float64, np.uint16]],
+        *,
+        fx: Union[float, Sequence[float]],
+        fy: Union[float, Sequence[float]],
+        cx: Union[float, Sequence[float]],
+        cy: Union[float, Sequence[float]],
+        radius: Union[None, float, Sequence[float]] = None,
+        normals: Optional[Sequence[Optional[npt.NDArray[np.floating]]]] = None,
+        normals_frame: str = "opencv",
+        depth_scale: Optional[float] = None,
+        depth_noise: DepthNoise = None,
+        thickness: Optional[float] = None,
+    ) -> npt.NDArray[np.float32]: ...
+    @overload
+    def render_many(
+        self,
+        maps: Sequence[npt.NDArray[Union[np.float16, np.float32, np.float64, np.uint16]]],
+        *,
+        fx: Union[float, Sequence[float]],
+        fy: Union[float, Sequence[float]],
+        cx: Union[float, Sequence[float]],
+        cy: Union[float, Sequence[float]],
+        radius: Union[None, float, Sequence[float]] = None,
+        normals: Optional[Sequence[Optional[npt.NDArray[np.floating]]]] = None,
+        normals_frame: str = "opencv",
+        depth_scale: Optional[float] = None,
+        depth_noise: DepthNoise = None,
+        thickness: Optional[float] = None,
+    ) -> List[npt.NDArray[np.float32]]:
+        """The AO of many maps: an (N, H, W) array gives an (N, H, W) array, a sequence of
+        2-D maps (sizes may differ) a list. Intrinsics and radius: one number or N. Maps
+        are prepared on a second thread while the device renders, grouped by size;
+        results equal `render` on each. A bad map raises ValueError("map i: ...")."""
