@@ -600,6 +600,102 @@ fn eval_writes_report_json_and_caches_the_reference() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
+/// `eval --score-images`: AO images made elsewhere get the same metrics as the variants.
+/// Analytic checks: a white 16-bit image scores exactly what the "white (no AO)" row does;
+/// a uniform 0.5 (8-bit 128/255) has that row's RMSE structure shifted: its bias is the
+/// white row's minus (1 − 128/255). Missing, mis-sized and absent folders are refused.
+#[test]
+fn eval_scores_images_made_elsewhere() {
+    let d = scratch("eval-images");
+    let (white, grey, json, cache) = (
+        d.join("white"),
+        d.join("grey"),
+        d.join("q.json"),
+        d.join("cache"),
+    );
+    std::fs::create_dir_all(&white).unwrap();
+    std::fs::create_dir_all(&grey).unwrap();
+    let (w, h) = (64u32, 40u32);
+    image::ImageBuffer::<image::Luma<u16>, _>::from_pixel(w, h, image::Luma([65535u16]))
+        .save(white.join("cornell.png"))
+        .unwrap();
+    image::ImageBuffer::<image::Luma<u8>, _>::from_pixel(w, h, image::Luma([128u8]))
+        .save(grey.join("cornell.png"))
+        .unwrap();
+    let dirs = format!("{},{}", s(&white), s(&grey));
+    let args = [
+        "--width",
+        "64",
+        "--height",
+        "40",
+        "--rays",
+        "16",
+        "--runs",
+        "1",
+        "--estimators",
+        "gtao",
+        "--modes",
+        "deinterleaved2",
+        "--no-screen-reference",
+        "--score-images",
+        &dirs,
+    ];
+    let out = eval_cornell(&args, &d.join("report"), Some(&json), &cache);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v = read_json(&json);
+    let row = |variant: &str| {
+        v["records"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["variant"] == variant)
+            .unwrap_or_else(|| panic!("no row {variant}: {v}"))
+            .clone()
+    };
+    let (none, wi, gr) = (row("white (no AO)"), row("image white"), row("image grey"));
+    for k in ["rmse", "bias", "band_rmse", "ssim"] {
+        assert_eq!(none[k], wi[k], "{k}");
+    }
+    let shift = 1.0 - 128.0 / 255.0;
+    let want = none["bias"].as_f64().unwrap() - shift;
+    assert!(
+        (gr["bias"].as_f64().unwrap() - want).abs() < 2e-4,
+        "{gr} vs {want}"
+    );
+    assert!(
+        gr["median_ms"].is_null() && gr["estimator"] == "image",
+        "{gr}"
+    );
+    let md = std::fs::read_to_string(d.join("report").join("index.md")).unwrap();
+    assert!(md.contains("| image grey |"), "{md}");
+    // A view without an image, an image of the wrong size, and no folder at all.
+    let empty = d.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let small = d.join("small");
+    std::fs::create_dir_all(&small).unwrap();
+    image::ImageBuffer::<image::Luma<u8>, _>::from_pixel(8, 8, image::Luma([255u8]))
+        .save(small.join("cornell.png"))
+        .unwrap();
+    for (dir, says) in [
+        (
+            s(&empty).to_string(),
+            "has no `cornell.png` or `cornell.exr`",
+        ),
+        (s(&small).to_string(), "is 8x8; eval renders 64x40"),
+        (s(&d.join("nowhere")).to_string(), "is not a folder"),
+    ] {
+        let mut bad = args.to_vec();
+        let last = bad.len() - 1;
+        bad[last] = &dir;
+        let out = eval_cornell(&bad, &d.join("report2"), None, &cache);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{says}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}
+
 #[test]
 fn eval_rejects_bad_input() {
     for (args, msg) in [

@@ -117,6 +117,12 @@ pub struct EvalArgs {
     /// Denoise choices (comma-separated; at full resolution too).
     #[arg(long, value_parser = parse_denoise, value_delimiter = ',', default_value = "none")]
     pub denoise: Vec<Denoise>,
+    /// Folders of AO made elsewhere (another library, an older build), scored beside the
+    /// variants against the same truth (comma-separated): each holds one image per view,
+    /// `VIEW.png` (8- or 16-bit grey, 1 = white = unoccluded) or `VIEW.exr`, at --width ×
+    /// --height. Each folder is a row "image NAME" (untimed; no screen-space reference).
+    #[arg(long, value_delimiter = ',')]
+    pub score_images: Vec<std::path::PathBuf>,
     /// Leave the per-view picture sections out of the report (tables and plot only).
     #[arg(long)]
     pub no_pictures: bool,

@@ -9,6 +9,7 @@
 
 mod args;
 mod frontier;
+mod images;
 mod pictures;
 mod plots;
 mod report;
@@ -62,6 +63,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         return ssdo::evaluate(a, &jobs);
     }
+    let image_dirs = images::image_dirs(&a.score_images)?;
     if let Some(dir) = &a.report {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create `{}`", dir.display()))?;
@@ -423,6 +425,18 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 Some(o),
             ));
         }
+        // AO made elsewhere, after the variants (untimed).
+        for d in &image_dirs {
+            let img = images::load_view(&d.dir, &job.name, w, h)?;
+            results.push((
+                d.label.clone(),
+                "image".into(),
+                String::new(),
+                img,
+                None,
+                None,
+            ));
+        }
         // Bent normals of GTAO's and HBAO's single-frame variants (untimed; unfused, which is the same
         // work, so that the prepared normals can be read back), where they come out at full
         // resolution (not after box/tent filtering below it).
@@ -470,9 +484,11 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let first_variant = 1 + screen.len();
         for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
             // The variant's thickness prior picks the bitmask's screen-space reference.
+            // (Rows after the variants are images scored: no prior.)
             let thickness = k
                 .checked_sub(first_variant)
-                .map_or(obscura::DEFAULT_THICKNESS, |i| thickness_of[i]);
+                .and_then(|i| thickness_of.get(i).copied())
+                .unwrap_or(obscura::DEFAULT_THICKNESS);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
                 full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });
@@ -532,8 +548,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 w,
                 h,
                 t0.elapsed().as_secs_f64(),
-                variants.iter().map(|v| v.0.as_str()).collect::<Vec<_>>().join(" | "),
-                "---|".repeat(variants.len()),
+                variants
+                    .iter()
+                    .map(|v| v.0.as_str())
+                    .chain(image_dirs.iter().map(|d| d.label.as_str()))
+                    .collect::<Vec<_>>()
+                    .join(" | "),
+                "---|".repeat(variants.len() + image_dirs.len()),
                 pic("reference"),
             );
             for (name, _, _, img, _, _) in results.iter().skip(1 + screen.len()) {
