@@ -693,6 +693,42 @@ fn eval_scores_images_made_elsewhere() {
         assert!(!out.status.success() && err.contains(says), "{says}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }
+    // --export-views: the cameras and radii a peer renders the same views with, and no
+    // tracing (no cache is made).
+    let views = d.join("views.json");
+    let cache2 = d.join("cache2");
+    let out = eval_cornell(
+        &["--export-views", s(&views), "--radius", "30"],
+        &d.join("report3"),
+        None,
+        &cache2,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = read_json(&views);
+    let c = &v["views"][0];
+    assert_eq!(v["views"].as_array().unwrap().len(), 1);
+    assert_eq!(c["name"], "cornell");
+    assert_eq!(c["eye"], serde_json::json!([278.0, 273.0, -800.0]));
+    assert_eq!(c["target"], serde_json::json!([278.0, 273.0, 0.0]));
+    assert_eq!(
+        (c["fov_y_deg"].as_f64(), c["radius"].as_f64()),
+        (Some(39.0), Some(30.0))
+    );
+    assert_eq!(
+        (c["width"].as_u64(), c["height"].as_u64()),
+        (Some(640), Some(400))
+    );
+    let (near, far) = (c["near"].as_f64().unwrap(), c["far"].as_f64().unwrap());
+    assert!(0.0 < near && near < 800.0 && far > 800.0, "{c}");
+    assert!(
+        c["scene"].as_str().unwrap().ends_with("cornell_box.obj"),
+        "{c}"
+    );
+    assert!(!cache2.exists(), "nothing traced");
     std::fs::remove_dir_all(d).unwrap();
 }
 

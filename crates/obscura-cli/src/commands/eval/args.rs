@@ -117,6 +117,12 @@ pub struct EvalArgs {
     /// Denoise choices (comma-separated; at full resolution too).
     #[arg(long, value_parser = parse_denoise, value_delimiter = ',', default_value = "none")]
     pub denoise: Vec<Denoise>,
+    /// Write the views' cameras and AO radii to this JSON file and stop (no tracing, no
+    /// AO): what another library needs to render the same views for --score-images. Per
+    /// view: name, scene (path), eye, target, up, fov_y_deg, near, far, radius, width,
+    /// height; world units are the scene file's.
+    #[arg(long)]
+    pub export_views: Option<std::path::PathBuf>,
     /// Folders of AO made elsewhere (another library, an older build), scored beside the
     /// variants against the same truth (comma-separated): each holds one image per view,
     /// `VIEW.png` (8- or 16-bit grey, 1 = white = unoccluded) or `VIEW.exr`, at --width ×

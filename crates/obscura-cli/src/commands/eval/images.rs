@@ -1,7 +1,11 @@
 //! `eval --score-images DIR`: AO made elsewhere (another library, an earlier build), one
 //! image per view, scored against the same ray-traced truth with the same metrics.
 
+use super::args::EvalArgs;
+use crate::output::write_text;
+use crate::views::{camera_for, Job};
 use anyhow::{bail, Context, Result};
+use obscura_scene::{CameraProjection, Mesh};
 use std::path::{Path, PathBuf};
 
 /// The extensions an AO image may have, in the order they are looked for.
@@ -64,4 +68,36 @@ pub(super) fn load_view(dir: &Path, view: &str, width: u32, height: u32) -> Resu
         bail!("`{}` holds {bad}; AO must be finite", path.display());
     }
     Ok(values)
+}
+
+/// `eval --export-views FILE`: each view's scene, camera and AO radius (the rule eval uses:
+/// `--radius`, else 3% of the bounds' diagonal) as JSON, for a peer to render the same.
+pub(super) fn export_views(a: &EvalArgs, jobs: &[Job], path: &Path) -> Result<()> {
+    let mut views = Vec::new();
+    for job in jobs {
+        let mesh = Mesh::load(&job.file)
+            .with_context(|| format!("cannot load scene `{}`", job.file.display()))?;
+        let cam = camera_for(job, &mesh)?;
+        let bounds = mesh.bounds().context("the scene has no triangles")?;
+        let CameraProjection::Perspective { fov_y_deg } = cam.projection else {
+            bail!("view `{}`: only perspective views are exported", job.name);
+        };
+        views.push(serde_json::json!({
+            "name": job.name,
+            "scene": job.file.canonicalize().unwrap_or_else(|_| job.file.clone()),
+            "eye": cam.eye.to_array(),
+            "target": cam.target.to_array(),
+            "up": cam.up.to_array(),
+            "fov_y_deg": fov_y_deg,
+            "near": cam.near,
+            "far": cam.far,
+            "radius": a.radius.unwrap_or(0.03 * bounds.diagonal()),
+            "width": a.width,
+            "height": a.height,
+        }));
+    }
+    let text = serde_json::to_string_pretty(&serde_json::json!({ "views": views }))?;
+    write_text(path, &text)?;
+    eprintln!("wrote {} ({} views)", path.display(), views.len());
+    Ok(())
 }

@@ -63,6 +63,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         return ssdo::evaluate(a, &jobs);
     }
+    if let Some(path) = &a.export_views {
+        return images::export_views(a, &jobs, path);
+    }
     let image_dirs = images::image_dirs(&a.score_images)?;
     if let Some(dir) = &a.report {
         std::fs::create_dir_all(dir)

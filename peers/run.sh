@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Peers side by side: VTK's vtkSSAOPass on the shared views, scored by `obscura eval
+# --score-images` against the same ray-traced truth as obscura's own variants, in one run;
+# then one table (peers/out/table.md). Needs ../shared beside the repository and the
+# package registries (PyPI for vtk, numpy, Pillow). Not part of CI or the README's tests.
+#
+#   bash peers/run.sh [OBSCURA_BINARY]     (default: builds target/release/obscura)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=peers/out
+mkdir -p "$out"
+bin=${1:-}
+if [ -z "$bin" ]; then
+  cargo build --release --locked -p obscura-cli
+  bin=target/release/obscura
+fi
+# Quiets Mesa's device-select layer on headless machines (noise only).
+export NODEVICE_SELECT=1
+
+# 1. The views' cameras and radii, as obscura evaluates them.
+"$bin" eval --all --export-views "$out/views.json"
+
+# 2. VTK (PyPI wheel, offscreen through EGL), one folder of AO images per kernel size.
+if [ ! -x "$out/venv/bin/python" ]; then
+  python3 -m venv "$out/venv"
+fi
+"$out/venv/bin/pip" install --quiet vtk numpy pillow
+kernels="16 32 64"
+dirs=()
+for k in $kernels; do
+  "$out/venv/bin/python" peers/vtk/ssao.py "$out/views.json" "$out/vtk-k$k" --kernel "$k"
+  dirs+=("$out/vtk-k$k")
+done
+
+# 3. obscura's default and its presets at full and half resolution, with and without the
+#    denoiser, with every peer's
+#    images, in one eval run.
+"$bin" eval --all --estimators gtao --modes deinterleaved2,randomized \
+  --presets low,medium,high,ultra --resolutions full,half --denoise none,spatial --runs 5 \
+  --no-screen-reference \
+  --score-images "$(IFS=,; echo "${dirs[*]}")" \
+  --json "$out/eval.json" --report "$out/report"
+
+# 4. The table.
+python3 peers/table.py "$out/eval.json" "${dirs[@]}" | tee "$out/table.md"
