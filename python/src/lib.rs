@@ -545,14 +545,10 @@ impl Renderer {
     /// The AO of every map, in order (call without the GIL): a second thread prepares the
     /// maps, grouped by size, while this one renders the map before.
     fn render_all(&self, raws: Vec<Raw>) -> PyResult<Vec<Vec<f32>>> {
-        let mut order: Vec<usize> = (0..raws.len()).collect();
-        order.sort_by_key(|&i| (raws[i].width, raws[i].height));
-        let mut slots: Vec<Option<Raw>> = raws.into_iter().map(Some).collect();
-        let queue: Vec<(usize, Raw)> = order
-            .iter()
-            .filter_map(|&i| slots[i].take().map(|r| (i, r)))
-            .collect();
-        let mut out: Vec<Vec<f32>> = vec![Vec::new(); slots.len()];
+        let mut out: Vec<Vec<f32>> = vec![Vec::new(); raws.len()];
+        // Each map with its index, grouped by size (a stable sort keeps their order).
+        let mut queue: Vec<(usize, Raw)> = raws.into_iter().enumerate().collect();
+        queue.sort_by_key(|(_, r)| (r.width, r.height));
         let mut inner = self.lock()?;
         std::thread::scope(|scope| {
             // One map prepared ahead of the device: the channel holds one.

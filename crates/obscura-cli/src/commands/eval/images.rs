@@ -91,7 +91,7 @@ pub(super) fn export_views(a: &EvalArgs, jobs: &[Job], path: &Path) -> Result<()
             "fov_y_deg": fov_y_deg,
             "near": cam.near,
             "far": cam.far,
-            "radius": a.radius.unwrap_or(0.03 * bounds.diagonal()),
+            "radius": super::view_radius(a, &bounds),
             "width": a.width,
             "height": a.height,
         }));

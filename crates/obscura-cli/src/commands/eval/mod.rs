@@ -44,6 +44,13 @@ use obscura_scene::{Camera, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::time::Instant;
 
+/// A view's AO radius: --radius, else a fixed fraction of its bounds' diagonal (the CLI's
+/// default rule, `obscura::depth_map::DEFAULT_RADIUS_FRACTION`).
+fn view_radius(a: &EvalArgs, bounds: &obscura_scene::Aabb) -> f32 {
+    a.radius
+        .unwrap_or(obscura::depth_map::DEFAULT_RADIUS_FRACTION * bounds.diagonal())
+}
+
 fn jobs(a: &EvalArgs) -> Result<Vec<Job>> {
     a.views
         .jobs()?
@@ -124,7 +131,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             .with_context(|| format!("cannot load scene `{}`", job.file.display()))?;
         let cam = camera_for(job, &mesh)?;
         let bounds = mesh.bounds().context("the scene has no triangles")?;
-        let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+        let radius = view_radius(a, &bounds);
         let settings = TraceSettings {
             radius,
             rays: a.rays,

@@ -223,7 +223,7 @@ pub(super) fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
             .collect();
         let cam = camera_for(job, &mesh)?;
         let bounds = mesh.bounds().context("the scene has no triangles")?;
-        let radius = a.radius.unwrap_or(0.03 * bounds.diagonal());
+        let radius = super::view_radius(a, &bounds);
         let settings = TraceSettings {
             radius,
             rays: a.rays,
