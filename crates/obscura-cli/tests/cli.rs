@@ -135,6 +135,71 @@ fn render_msaa_resolves_multisampled_depth() {
     );
 }
 
+/// `render --guard-band 24`: the scene rasterized 24 px beyond each side, the AO of the
+/// image's own size; it differs from the AO without the band most at the image's edges
+/// (the band's occluders), where the mean difference is larger than in the middle.
+#[test]
+fn render_guard_band_keeps_the_size_and_darkens_the_edges() {
+    let d = scratch("guard");
+    let (plain, banded) = (d.join("plain.npy"), d.join("banded.npy"));
+    for (path, band) in [(&plain, "0"), (&banded, "24")] {
+        let out = obscura(&[
+            "render",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--runs",
+            "1",
+            "--guard-band",
+            band,
+            "--out",
+            s(path),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        if band != "0" {
+            assert!(
+                err.contains("guard band of 24 px (208x138 rasterized)"),
+                "{err}"
+            );
+        }
+    }
+    let read = |p: &Path| -> Vec<f32> {
+        let bytes = std::fs::read(p).unwrap();
+        let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+        bytes[10 + header..]
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    };
+    let (a, b) = (read(&plain), read(&banded));
+    assert_eq!((a.len(), b.len()), (160 * 90, 160 * 90));
+    let mean_diff = |inside: &dyn Fn(usize, usize) -> bool| {
+        let (mut sum, mut n) = (0.0, 0);
+        for y in 0..90 {
+            for x in 0..160 {
+                if inside(x, y) {
+                    sum += (a[y * 160 + x] - b[y * 160 + x]).abs();
+                    n += 1;
+                }
+            }
+        }
+        sum / n as f32
+    };
+    let edge = mean_diff(&|x, y| x < 4 || y < 4 || x >= 156 || y >= 86);
+    let middle = mean_diff(&|x, y| (40..120).contains(&x) && (25..65).contains(&y));
+    assert!(
+        edge > 2.0 * middle && edge > 1e-3,
+        "edge {edge}, middle {middle}"
+    );
+    assert_fails(
+        "guard-msaa",
+        &["render", "--guard-band", "8", "--msaa"],
+        "cannot be used with",
+    );
+}
+
 /// Runs `render --orbit 20` of the built-in scene at 96×64 for `frames` frames under
 /// `--budget-ms budget` (and `control`, or the default controller), checks that it
 /// succeeded and wrote the last frame and the plot, and returns stderr and budget.csv's
@@ -796,6 +861,22 @@ fn eval_rejects_bad_input() {
             ][..],
             "--sensor evaluates single frames",
         ),
+        (
+            &[
+                "eval",
+                "--view",
+                "cornell",
+                "--guard-bands",
+                "0,16",
+                "--frames",
+                "1,8",
+            ][..],
+            "--guard-bands evaluates single frames",
+        ),
+        (
+            &["eval", "--view", "cornell", "--guard-bands", "2000"][..],
+            "--guard-bands must each be in 0..=1024",
+        ),
     ] {
         let out = obscura(args);
         let err = String::from_utf8_lossy(&out.stderr);
@@ -805,6 +886,63 @@ fn eval_rejects_bad_input() {
         );
         assert!(err.contains(msg), "{args:?}: expected `{msg}` in {err}");
     }
+}
+
+/// `eval --guard-bands 0,16`: each variant and each screen-space reference once per band,
+/// labelled; a variant's sampling bias is measured against the screen-space reference of
+/// its own band (its bias minus that reference's, to the JSON's rounding); the band changes
+/// the AO.
+#[test]
+fn eval_runs_each_guard_band_against_its_own_reference() {
+    let d = scratch("eval-guard");
+    let (report, json, cache) = (d.join("report"), d.join("q.json"), d.join("cache"));
+    let args = [
+        "--width",
+        "64",
+        "--height",
+        "40",
+        "--rays",
+        "16",
+        "--runs",
+        "1",
+        "--estimators",
+        "gtao",
+        "--modes",
+        "randomized",
+        "--guard-bands",
+        "0,16",
+        "--no-pictures",
+    ];
+    // Sponza: its arcade runs off the view's sides (the Cornell box's walls continue flat
+    // beyond its edges, so a band changes nothing there).
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
+    let mut all = vec!["eval", "--view", "sponza", "--scenes-dir", scenes];
+    all.extend_from_slice(&args);
+    all.extend([
+        "--report",
+        s(&report),
+        "--cache",
+        s(&cache),
+        "--json",
+        s(&json),
+    ]);
+    let out = obscura(&all);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v = read_json(&json);
+    let bias = |variant: &str| record(&v, variant)["bias"].as_f64().unwrap();
+    for g in ["g0", "g16"] {
+        let variant = format!("gtao randomized {g}");
+        let want = bias(&variant) - bias(&format!("gtao {g} screen-space reference"));
+        let got = record(&v, &variant)["screen_bias"].as_f64().unwrap();
+        assert!((got - want).abs() <= 2e-5, "{variant}: {got} vs {want}");
+    }
+    assert_ne!(
+        bias("gtao g0 screen-space reference"),
+        bias("gtao g16 screen-space reference"),
+        "the band changes the reference"
+    );
+    std::fs::remove_dir_all(d).unwrap();
 }
 
 /// `eval --frames 1,3,5`: single frames and accumulated ones in one run and one frontier.

@@ -127,6 +127,30 @@ impl Camera {
         }
     }
 
+    /// This camera's view, `height` pixels tall, widened by `guard` pixels on each side: the
+    /// camera a renderer draws a guard band with, at `width + 2·guard` × `height + 2·guard`
+    /// (the same eye and pixel size; a wider field of view, or a taller orthographic
+    /// volume). obscura takes the band with this camera's own projection
+    /// ([`obscura::AoInput::guard_band`]).
+    pub fn widened(&self, height: u32, guard: u32) -> Camera {
+        let grow = (height as f64 + 2.0 * guard as f64) / height.max(1) as f64;
+        let projection = match self.projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                let half = (0.5 * (fov_y_deg as f64).to_radians()).tan() * grow;
+                CameraProjection::Perspective {
+                    fov_y_deg: (2.0 * half.atan()).to_degrees() as f32,
+                }
+            }
+            CameraProjection::Orthographic { height: h } => CameraProjection::Orthographic {
+                height: (h as f64 * grow) as f32,
+            },
+        };
+        Camera {
+            projection,
+            ..*self
+        }
+    }
+
     /// The same projection in obscura's typed form.
     pub fn obscura_projection(&self, aspect: f32) -> obscura::Projection {
         match self.projection {

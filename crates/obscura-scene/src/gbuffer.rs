@@ -34,21 +34,33 @@ pub struct GBuffer {
     pub normals_view: wgpu::TextureView,
     pub albedo: wgpu::Texture,
     pub albedo_view: wgpu::TextureView,
+    /// The textures' size: the view's, plus the guard band on each side.
     pub width: u32,
     pub height: u32,
+    /// Pixels rendered around the view on each side ([`GBufferRenderer::render_guarded`]).
+    pub guard_band: u32,
 }
 
 impl GBuffer {
-    /// obscura's input for this G-buffer seen by `camera`: standard depth, the camera's
-    /// projection, and the G-buffer's normals when `with_normals` (else reconstructed).
+    /// obscura's input for this G-buffer seen by `camera` (the view's camera, not the
+    /// widened one): standard depth, the camera's projection, the G-buffer's normals when
+    /// `with_normals` (else reconstructed), and the view inside its guard band.
     pub fn ao_input(&self, camera: &Camera, with_normals: bool) -> obscura::AoInput<'_> {
+        let g = self.guard_band;
+        let (w, h) = (self.width - 2 * g, self.height - 2 * g);
         obscura::AoInput {
             depth: &self.depth_view,
             convention: obscura::DepthConvention::Standard,
-            projection: camera.obscura_projection(self.width as f32 / self.height as f32),
+            projection: camera.obscura_projection(w as f32 / h as f32),
             normals: with_normals
                 .then_some((&self.normals_view, obscura::NormalEncoding::ViewSigned)),
-            viewport: None,
+            viewport: (g > 0).then_some(obscura::Viewport {
+                x: g,
+                y: g,
+                width: w,
+                height: h,
+            }),
+            guard_band: g,
             output: None,
         }
     }
@@ -73,6 +85,7 @@ impl MsaaDepth {
             projection: camera.obscura_projection(self.width as f32 / self.height as f32),
             normals: None,
             viewport: None,
+            guard_band: 0,
             output: None,
         }
     }
@@ -223,6 +236,26 @@ impl GBufferRenderer {
         width: u32,
         height: u32,
     ) -> Result<GBuffer, SceneError> {
+        self.render_guarded(ctx, mesh, camera, (width, height), 0)
+    }
+
+    /// Renders `mesh` from `camera`'s `width` × `height` view and a guard band of `guard`
+    /// pixels around it ([`Camera::widened`]), waiting for completion.
+    pub fn render_guarded(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        guard: u32,
+    ) -> Result<GBuffer, SceneError> {
+        let too_wide = || SceneError::Camera(format!("a guard band of {guard} px is too wide"));
+        let grow = |s: u32| s.checked_add(guard.checked_mul(2)?);
+        let (width, height) = (
+            grow(width).ok_or_else(too_wide)?,
+            grow(height).ok_or_else(too_wide)?,
+        );
+        let camera = &camera.widened(height - 2 * guard, guard);
         self.set_camera(ctx, camera, width, height)?;
         let depth = target(ctx, width, height, DEPTH_FORMAT, 1);
         let normals = target(ctx, width, height, NORMAL_FORMAT, 1);
@@ -246,6 +279,7 @@ impl GBufferRenderer {
             albedo_view,
             width,
             height,
+            guard_band: guard,
         })
     }
 

@@ -63,6 +63,7 @@ fn render_with(
         projection: cam.obscura_projection(w as f32 / h as f32),
         normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
         viewport: None,
+        guard_band: 0,
         output: None,
     };
     let params = AoParams {
@@ -145,6 +146,60 @@ fn orthographic_camera_renders_and_matches_obscura_projection() {
     let (depth, ao) = render(&mesh, &cam, 192, 128, 1.0);
     assert!(depth.iter().filter(|&&d| d < 1.0).count() > 1000);
     assert!(ao.iter().any(|&a| a < 0.8));
+}
+
+/// A G-buffer rendered with a guard band holds the plain render's depth in its middle:
+/// the widened camera keeps the pixel size and centres (a wrong field of view shifts every
+/// pixel; a band grown by 1.9 g instead of 2 g fails on 80% of them). Pixels whose centre
+/// lies on a triangle edge may flip with rounding: at most 0.5% of them may differ by more
+/// than 1e-4 of their linear depth (Depth32Float's standard depth, near = far / 10⁴, differs
+/// by 1e-5 between the two projection matrices). Its AO input is the view inside the band.
+#[test]
+fn guard_band_render_holds_the_plain_view_in_its_middle() {
+    let _g = lock();
+    let c = ctx();
+    let mesh = default_scene::mesh();
+    let raster = GBufferRenderer::new(&c.device);
+    let gm = raster.upload(c, &mesh).unwrap();
+    let (w, h, g) = (160u32, 90u32, 24u32);
+    let mut ortho = default_scene::camera();
+    ortho.projection = CameraProjection::Orthographic { height: 12.0 };
+    for cam in [default_scene::camera(), ortho] {
+        let plain = c
+            .read_f32(&raster.render(c, &gm, &cam, w, h).unwrap().depth)
+            .unwrap();
+        let banded = raster.render_guarded(c, &gm, &cam, (w, h), g).unwrap();
+        assert_eq!((banded.width, banded.height), (w + 2 * g, h + 2 * g));
+        let input = banded.ao_input(&cam, false);
+        assert_eq!(input.guard_band, g);
+        assert_eq!(
+            input.projection,
+            cam.obscura_projection(w as f32 / h as f32)
+        );
+        let depth = c.read_f32(&banded.depth).unwrap();
+        let lin = input
+            .projection
+            .linearize(DepthConvention::Standard)
+            .unwrap();
+        let bw = (w + 2 * g) as usize;
+        let off = (0..h as usize)
+            .flat_map(|y| (0..w as usize).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let a = lin.apply(plain[y * w as usize + x]);
+                let b = lin.apply(depth[(y + g as usize) * bw + x + g as usize]);
+                match (a, b) {
+                    (Some(a), Some(b)) => (a - b).abs() > 1e-4 * a,
+                    (a, b) => a.is_some() != b.is_some(),
+                }
+            })
+            .count();
+        assert!(
+            off * 200 <= (w * h) as usize,
+            "{:?}: {off} of {} pixels differ",
+            cam.projection,
+            w * h
+        );
+    }
 }
 
 #[test]

@@ -253,6 +253,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             projection,
             normals: None,
             viewport: None,
+            guard_band: 0,
             output: Some(&ao_view),
         };
         let params = AoParams {

@@ -408,6 +408,7 @@ impl Renderer {
             projection: framed.projection,
             normals: normals.map(|v| (v, crate::NormalEncoding::ViewSigned)),
             viewport: None,
+            guard_band: 0,
             output: None,
         };
         self.ao.restart();

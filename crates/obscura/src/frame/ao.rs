@@ -35,6 +35,8 @@ pub struct Ao {
     max_dim: u32,
     pub(super) sized: Option<SizedResources>,
     pub(super) resolve: Option<Resolve>,
+    /// The guard band's crop, compiled on the first frame with a guard band.
+    crop: Option<Compiled>,
     created: ResourceCount,
     pub(super) temporal: TemporalState,
 }
@@ -90,6 +92,7 @@ impl Ao {
             max_dim: device.limits().max_texture_dimension_2d,
             sized: None,
             resolve: None,
+            crop: None,
             created,
             temporal: TemporalState::default(),
         })
@@ -147,11 +150,15 @@ impl Ao {
             work_uniforms: &self.work_uniforms,
             compiled: &self.later,
         };
-        if self.sized.as_ref().is_none_or(|s| s.size != frame.size) {
+        let sizes = (frame.size, frame.output_size);
+        if self
+            .sized
+            .as_ref()
+            .is_none_or(|s| (s.size, s.output_size) != sizes)
+        {
             // Drop the old set first: at large sizes two sets may not fit together.
             self.sized = None;
-            let sized =
-                SizedResources::new(device, &self.plan, shared, frame.size, &mut self.created)?;
+            let sized = SizedResources::new(device, &self.plan, shared, sizes, &mut self.created)?;
             self.sized = Some(sized);
             // A new size starts a new history.
             self.temporal.valid = false;
@@ -205,8 +212,19 @@ impl Ao {
             inputs,
             &mut self.created,
         )?;
-        let output_bind =
-            sized.bind_output(device, &self.plan, shared, input.output, &mut self.created)?;
+        if sized.crop.is_some() && self.crop.is_none() {
+            let scope = ErrorScope::push(device);
+            let compiled = compile(device, Pass::Crop, &self.options);
+            scope.pop("compiling the guard band's crop")?;
+            self.crop = Some(compiled);
+        }
+        let (output_bind, crop_bind) = sized.bind_output(
+            device,
+            &self.plan,
+            shared,
+            (input.output, self.crop.as_ref()),
+            &mut self.created,
+        )?;
         let p = parity as usize;
         let mut passes = Vec::with_capacity(sized.later.len() + 2);
         if let (true, Some(r)) = (multisampled, &self.resolve) {
@@ -224,6 +242,10 @@ impl Ao {
         for (i, bg, d) in &sized.later {
             let bg = bg.as_ref().unwrap_or(&output_bind)[p].clone();
             passes.push((&self.later[*i], bg, d.at(work.size, n)));
+        }
+        if let (Some(c), Some(bg)) = (&self.crop, crop_bind) {
+            let (x, y) = dispatch_size(frame.output_size);
+            passes.push((c, bg, [x, y, 1]));
         }
         Ok(passes)
     }

@@ -3,7 +3,7 @@
 
 use crate::passes::constants::AO_FORMAT;
 use crate::passes::shader::DepthBinding;
-use crate::passes::uniforms::FrameUniforms;
+use crate::passes::uniforms::{guarded, FrameUniforms};
 use crate::{
     AoOptions, AoParams, DepthConvention, Error, NormalEncoding, Projection, Result, Viewport,
 };
@@ -26,6 +26,14 @@ pub struct AoInput<'a> {
     pub normals: Option<(&'a wgpu::TextureView, NormalEncoding)>,
     /// The region to process; `None` means the whole depth texture.
     pub viewport: Option<Viewport>,
+    /// A guard band: pixels of depth on each side of the viewport that the samples read
+    /// but the output does not cover (0: none, samples stop at the viewport's edge). The
+    /// depth texture (and the normal texture) must hold the band. `projection` stays the
+    /// viewport's; the passes widen it over the band. The AO is computed over the band
+    /// too and cropped, so it costs the band's pixels; the intermediate textures
+    /// ([`crate::Ao::bent_normals`], [`crate::Ao::prepared`], the history) cover the
+    /// viewport grown by the band, the viewport at (band, band).
+    pub guard_band: u32,
     /// Where to write the AO: a view of a whole `R32Float` 2D texture (one mip, one layer)
     /// of the viewport's size with `STORAGE_BINDING` usage; 1 = unoccluded. `None`: a
     /// texture the library owns ([`crate::Ao::output`]).
@@ -76,27 +84,31 @@ pub(crate) fn validate(
     let viewport = input
         .viewport
         .unwrap_or(Viewport::full(tex.width(), tex.height()));
-    let fits = |w: u32, h: u32| {
-        viewport
-            .x
-            .checked_add(viewport.width)
-            .is_some_and(|r| r <= w)
-            && viewport
-                .y
-                .checked_add(viewport.height)
-                .is_some_and(|b| b <= h)
+    let fits = |v: Viewport, w: u32, h: u32| {
+        v.x.checked_add(v.width).is_some_and(|r| r <= w)
+            && v.y.checked_add(v.height).is_some_and(|b| b <= h)
     };
-    if !fits(tex.width(), tex.height()) {
+    if !fits(viewport, tex.width(), tex.height()) {
         return Err(Error::InvalidViewport(format!(
             "{viewport:?} does not fit the {}x{} depth texture",
             tex.width(),
             tex.height()
         )));
     }
-    if viewport.width > max_dim || viewport.height > max_dim {
+    let processed = guarded(viewport, input.guard_band)?;
+    if !fits(processed, tex.width(), tex.height()) {
+        return Err(Error::InvalidViewport(format!(
+            "a guard band of {} px around {viewport:?} leaves the {}x{} depth texture; \
+             the depth texture must hold the viewport and the band on every side",
+            input.guard_band,
+            tex.width(),
+            tex.height()
+        )));
+    }
+    if processed.width > max_dim || processed.height > max_dim {
         return Err(Error::TooLarge {
-            width: viewport.width,
-            height: viewport.height,
+            width: processed.width,
+            height: processed.height,
             max: max_dim,
         });
     }
@@ -171,7 +183,7 @@ pub(crate) fn validate(
         &input.projection,
         input.convention,
         input.normals.map(|n| n.1),
-        viewport,
+        (viewport, input.guard_band),
         options,
         params,
     )

@@ -137,3 +137,15 @@ fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32, e: f32) -> f32
     }
     return cell + (1.0 + step_px * n - cell) * pow((f32(s) + j) / n, e);
 }
+
+// Whether working-grid pixel `p` (centred at full-resolution (p + 0.5) · inv_scale) lies
+// more than GUARD_AO_MARGIN working texels outside the output, in a guard band where no
+// later pass reads its AO (AoInput::guard_band; never without a band: the output then
+// starts at 0 and spans the grid).
+fn beyond_output(p: vec2<u32>) -> bool {
+    let f = (vec2<f32>(p) + 0.5) * frame.inv_scale;
+    let m = f32(GUARD_AO_MARGIN) * frame.inv_scale;
+    let lo = vec2<f32>(frame.output_offset) - m;
+    let hi = vec2<f32>(frame.output_offset + frame.output_size) + m;
+    return any(f < lo) || any(f > hi);
+}

@@ -22,6 +22,13 @@ pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float
 /// of linear depth (passes/pyramid/moments.wgsl), read by VO's area integral.
 pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
+/// Inside a guard band ([`crate::AoInput::guard_band`]) the AO pass computes the output
+/// and this many working texels around it, and skips the rest of the band (writing 1):
+/// what the later passes read beyond the output (the denoiser's 2, box/tent downsampling's
+/// 2 and the upsampler's 2 low-resolution texels) lies inside. Not with temporal
+/// accumulation, whose reprojection may read anywhere in the band.
+pub const GUARD_AO_MARGIN: u32 = 8;
+
 /// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
 /// the denoiser, temporal reprojection): a sample farther than this fraction of the depth
 /// (or [`NOISE_TOLERANCE_SIGMAS`] σ of the depth noise, if more) from the centre's tangent

@@ -141,6 +141,9 @@ pub enum Pass {
     /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
     /// reads it as a float input).
     ResolveDepth,
+    /// The processed rectangle's AO → the output, when a guard band surrounds the viewport
+    /// ([`crate::AoInput::guard_band`]; passes/crop/crop.wgsl).
+    Crop,
     /// Many-light diffuse shading of the prepared buffer: every light, or with an override
     /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]);
     /// `layers`: the prepared buffer as the AO's N×N layers (fused deinterleaved modes).
@@ -195,7 +198,12 @@ impl Pass {
                 }
             }
         }
-        v.extend([Pass::Deinterleave, Pass::Interleave, Pass::ResolveDepth]);
+        v.extend([
+            Pass::Deinterleave,
+            Pass::Interleave,
+            Pass::ResolveDepth,
+            Pass::Crop,
+        ]);
         for source in [
             PyramidSource::Full,
             PyramidSource::Layers,
@@ -334,6 +342,7 @@ impl Pass {
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
+            Pass::Crop => "crop",
             Pass::LightsShade { layers, packed } => [
                 "lights_shade",
                 "lights_shade_from_layers",
@@ -533,6 +542,7 @@ impl Pass {
             }
             Pass::AoDownsample { .. } => vec![include_str!("denoise/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("prepare/resolve_depth.wgsl")],
+            Pass::Crop => vec![include_str!("crop/crop.wgsl")],
             Pass::LightsShade { layers, packed } => [
                 &[prepared_source(layers)][..],
                 &lit_out(false, packed)[..],
@@ -580,6 +590,8 @@ impl Pass {
     /// The pipeline-overridable constants this pass declares, valued from `options`.
     pub fn constants(self, options: &crate::AoOptions) -> Vec<(&'static str, f64)> {
         let split = ("SPLIT", options.mode.split() as f64);
+        // The AO pass skips a guard band beyond GUARD_AO_MARGIN, but for a history.
+        let skip_band = ("SKIP_BAND", (options.history == 0) as u32 as f64);
         let estimator = [
             ("DIRECTIONS", options.directions as f64),
             ("STEPS", options.steps as f64),
@@ -639,6 +651,7 @@ impl Pass {
             Pass::Pyramid { .. }
             | Pass::PyramidLevels
             | Pass::ResolveDepth
+            | Pass::Crop
             | Pass::UpsampleScaled => vec![],
             Pass::Rescale => rule(options.downsample, 1),
             Pass::Upsample {
@@ -673,15 +686,19 @@ impl Pass {
             | Pass::LightsMerge { .. }
             | Pass::SsdoBounce { .. }
             | Pass::SsdoCombine { .. } => vec![],
-            Pass::AoFull { estimator: e, bent } => {
-                [&estimator[..], &own(e)[..], &bent_constant(e, bent)[..]].concat()
-            }
+            Pass::AoFull { estimator: e, bent } => [
+                &estimator[..],
+                &own(e)[..],
+                &[skip_band],
+                &bent_constant(e, bent)[..],
+            ]
+            .concat(),
             Pass::AoLayered {
                 estimator: e, bent, ..
             } => [
                 &estimator[..],
                 &own(e)[..],
-                &[split],
+                &[split, skip_band],
                 &bent_constant(e, bent)[..],
             ]
             .concat(),
@@ -757,6 +774,7 @@ pub fn prelude() -> String {
          const WG_SIZE: u32 = {WORKGROUP_SIZE}u;\n\
          const PATTERN_DIM: u32 = {PATTERN_DIM}u;\n\
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\
+         const GUARD_AO_MARGIN: u32 = {GUARD_AO_MARGIN}u;\n\
          const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\

@@ -8,8 +8,14 @@ crate::gpu_struct! {
     pub struct FrameUniforms {
         /// Top-left of the viewport in the input textures, pixels.
         pub viewport_origin: [u32; 2],
-        /// Viewport (and output) size, pixels.
+        /// Size of the processed rectangle, pixels: the viewport grown by the guard band
+        /// ([`crate::AoInput::guard_band`]) on each side.
         pub size: [u32; 2],
+        /// Where the output (the viewport) starts in the processed rectangle: the guard
+        /// band, pixels.
+        pub output_offset: [u32; 2],
+        /// The output's size, pixels: the viewport's.
+        pub output_size: [u32; 2],
         /// 1 / size.
         pub inv_size: [f32; 2],
         /// `view.xy = ndc.xy * ndc_to_view` (times linear depth for perspective).
@@ -85,18 +91,43 @@ crate::gpu_struct! {
     }
 }
 
+/// `viewport` grown by `guard` pixels on each side: the rectangle the passes process.
+pub fn guarded(viewport: Viewport, guard: u32) -> Result<Viewport> {
+    let grow = |s: u32| s.checked_add(guard.checked_mul(2)?);
+    match (
+        viewport.x.checked_sub(guard),
+        viewport.y.checked_sub(guard),
+        grow(viewport.width),
+        grow(viewport.height),
+    ) {
+        (Some(x), Some(y), Some(width), Some(height)) => Ok(Viewport {
+            x,
+            y,
+            width,
+            height,
+        }),
+        _ => Err(crate::Error::InvalidViewport(format!(
+            "a guard band of {guard} px around {viewport:?} leaves the depth texture; \
+             the depth texture must hold the viewport and the band on every side"
+        ))),
+    }
+}
+
 /// `ceil(size × scale)`, at least 1 and at most `size`: the working grid's side.
 pub fn scaled_size(size: u32, scale: f32) -> u32 {
     ((size as f32 * scale).ceil() as u32).clamp(1, size.max(1))
 }
 
 impl FrameUniforms {
-    /// Validates the inputs and derives the uniform values. No GPU work.
+    /// Validates the inputs and derives the uniform values. No GPU work. The passes
+    /// process `viewport` grown by `guard` pixels on each side (the guard band, whose
+    /// depth the samples read); `projection` is the viewport's, so the processed
+    /// rectangle's frustum is widened by the same factor.
     pub fn new(
         projection: &Projection,
         convention: DepthConvention,
         normals: Option<NormalEncoding>,
-        viewport: Viewport,
+        (output, guard): (Viewport, u32),
         options: &AoOptions,
         params: &AoParams,
     ) -> Result<Self> {
@@ -104,13 +135,19 @@ impl FrameUniforms {
         params.validate()?;
         let lin = projection.linearize(convention)?;
         let rotation = normals.map_or(Ok(crate::depth::input::IDENTITY3), |e| e.to_view())?;
-        if viewport.width == 0 || viewport.height == 0 {
+        if output.width == 0 || output.height == 0 {
             return Err(crate::Error::InvalidViewport(format!(
                 "{}x{} is empty",
-                viewport.width, viewport.height
+                output.width, output.height
             )));
         }
+        let viewport = guarded(output, guard)?;
+        let widen = |s: u32, o: u32| s as f32 / o as f32;
         let scale = projection.ndc_to_view_scale();
+        let scale = [
+            scale[0] * widen(viewport.width, output.width),
+            scale[1] * widen(viewport.height, output.height),
+        ];
         let work_scale = if options.resolution == crate::Resolution::Scaled {
             params.scale
         } else if params.scale != 1.0 {
@@ -126,6 +163,8 @@ impl FrameUniforms {
         let u = Self {
             viewport_origin: [viewport.x, viewport.y],
             size: [viewport.width, viewport.height],
+            output_offset: [guard, guard],
+            output_size: [output.width, output.height],
             inv_size: [1.0 / viewport.width as f32, 1.0 / viewport.height as f32],
             ndc_to_view: scale,
             lin_a: lin.a,
@@ -482,9 +521,13 @@ mod tests {
                 }
             };
             let convention = DepthConvention::ALL[pick(4)];
+            // Viewports at the texture's corner or inside it, with or without a guard
+            // band (one that leaves the texture is refused).
+            let corner = 16 * pick(2) as u32;
+            let guard = 8 * pick(3) as u32;
             let viewport = Viewport {
-                x: 0,
-                y: 0,
+                x: corner,
+                y: corner,
                 width: f(640.0).abs().min(1e5) as u32,
                 height: f(400.0).abs().min(1e5) as u32,
             };
@@ -492,7 +535,7 @@ mod tests {
                 &projection,
                 convention,
                 normals,
-                viewport,
+                (viewport, guard),
                 &options,
                 &params,
             ) {

@@ -21,6 +21,7 @@ pub fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput
         projection,
         normals: None,
         viewport: None,
+        guard_band: 0,
         output: None,
     }
 }

@@ -14,6 +14,7 @@ use std::sync::{OnceLock, RwLock};
 mod bitmask;
 #[path = "../common/mod.rs"]
 mod common;
+mod guard;
 mod lights;
 mod shaders;
 mod ssdo;
@@ -104,6 +105,7 @@ fn run_ao(
         projection,
         normals: None,
         viewport,
+        guard_band: 0,
         output: None,
     };
     let frame = ao.validate(&input, params).unwrap();
@@ -3233,6 +3235,7 @@ fn msaa_depth_is_resolved_once_per_size_and_float_msaa_is_refused() {
         projection: persp(W, H),
         normals: None,
         viewport: None,
+        guard_band: 0,
         output: None,
     };
     let params = AoParams {

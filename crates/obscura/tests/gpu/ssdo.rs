@@ -29,7 +29,7 @@ fn frame(w: u32, h: u32, radius: f32) -> FrameUniforms {
         &projection,
         DepthConvention::LinearView,
         None,
-        Viewport::full(w, h),
+        (Viewport::full(w, h), 0),
         &AoOptions::default(),
         &params,
     )

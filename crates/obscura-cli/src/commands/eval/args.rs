@@ -29,6 +29,22 @@ impl EvalArgs {
         }
     }
 
+    /// The guard bands to run, each once: --guard-bands in order.
+    pub fn guards(&self) -> Vec<u32> {
+        let mut v: Vec<u32> = Vec::new();
+        for &g in &self.guard_bands {
+            if !v.contains(&g) {
+                v.push(g);
+            }
+        }
+        v
+    }
+
+    /// Whether variants carry a guard-band label ("gN"): some band is above 0.
+    pub fn guard_labels(&self) -> bool {
+        self.guard_bands.iter().any(|&g| g > 0)
+    }
+
     /// The march exponents to run: --march-exponents, or the library's default.
     pub fn exponents(&self) -> Vec<f32> {
         if self.march_exponents.is_empty() {
@@ -108,6 +124,13 @@ pub struct EvalArgs {
     /// runs with each, labelled "eE". Default: the library's.
     #[arg(long, value_delimiter = ',')]
     pub march_exponents: Vec<f32>,
+    /// Guard bands, pixels on each side (comma-separated, 0 = none): each variant runs
+    /// with each band, labelled "gN" when one is above 0, on depth and normals rasterized
+    /// that far beyond the view with the same pixel size (obscura-scene's
+    /// `GBufferRenderer::render_guarded`), and so do the screen-space references. The
+    /// truth and the pictures stay the view's. Single frames of clean depth only.
+    #[arg(long, value_delimiter = ',', default_value = "0")]
+    pub guard_bands: Vec<u32>,
     /// Depth downsampling rules for the low resolutions (comma-separated).
     #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,
@@ -333,6 +356,20 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     }
     if a.msaa && temporal_run {
         bail!("--msaa evaluates single frames (the orbit rasterizes single-sampled depth)");
+    }
+    if a.guard_bands.is_empty() {
+        bail!("--guard-bands needs at least one value (0 for none)");
+    }
+    if let Some(g) = a.guard_bands.iter().find(|&&g| g > 1024) {
+        bail!("--guard-bands must each be in 0..=1024 pixels (got {g})");
+    }
+    if a.guard_bands.iter().any(|&g| g > 0)
+        && (temporal_run || a.msaa || a.sensor != SensorArg::None)
+    {
+        bail!(
+            "--guard-bands evaluates single frames of clean single-sampled depth \
+             (not with --frames above 1, --msaa or --sensor)"
+        );
     }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
         bail!(

@@ -94,6 +94,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         scales,
         thickness_of,
         frames_of,
+        guard_of,
         orbit_frames,
     } = variant_list(a)?;
     let mut aos: Vec<Ao> = variants
@@ -106,8 +107,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             estimators.push(e.into());
         }
     }
-    // One screen-space reference per estimator, and per thickness prior for the bitmask.
-    let mut screen_aos: Vec<(Estimator, f32, Ao)> = Vec::new();
+    // One screen-space reference per estimator and guard band, and per thickness prior
+    // for the bitmask.
+    let mut screen_aos: Vec<(Estimator, f32, u32, Ao)> = Vec::new();
     if !a.no_screen_reference {
         for &e in &estimators {
             let priors = match e {
@@ -115,7 +117,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 _ => vec![obscura::DEFAULT_THICKNESS],
             };
             for t in priors {
-                screen_aos.push((e, t, Ao::new(&ctx.device, AoOptions::screen_reference(e))?));
+                for guard in a.guards() {
+                    let ao = Ao::new(&ctx.device, AoOptions::screen_reference(e))?;
+                    screen_aos.push((e, t, guard, ao));
+                }
             }
         }
     }
@@ -196,6 +201,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             Some(m) => m.ao_input(&cam),
             None => g.ao_input(&cam, a.normal_source() == NormalSource::Gbuffer),
         };
+        // The view with each guard band above 0 (clean single-sampled depth; `check`).
+        let mut banded = Vec::new();
+        for guard in a.guards().into_iter().filter(|&b| b > 0) {
+            banded.push((
+                guard,
+                raster.render_guarded(&ctx, &gpu_mesh, &cam, (w, h), guard)?,
+            ));
+        }
         let noisy = match a.sensor {
             SensorArg::None => None,
             SensorArg::Kinect => Some(sensor::Sensor::Kinect),
@@ -245,11 +258,16 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             thickness: thickness_of[i],
             ..params
         };
+        // The input with a guard band of `guard` pixels (0: the view's own).
+        let guarded = |guard: u32| match banded.iter().find(|b| b.0 == guard) {
+            Some((_, b)) => b.ao_input(&cam, a.normal_source() == NormalSource::Gbuffer),
+            None => input,
+        };
         let mut times = vec![Vec::new(); aos.len()];
         let timing = Timing::best_for(&ctx);
         for round in 0..=a.runs {
             for (i, ao) in aos.iter_mut().enumerate() {
-                let ms = frame_ms(&ctx, ao, &input, &of_variant(i), timing)?;
+                let ms = frame_ms(&ctx, ao, &guarded(guard_of[i]), &of_variant(i), timing)?;
                 if round > 0 {
                     times[i].push(ms);
                 }
@@ -348,30 +366,40 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let mut screen = Vec::new();
         let several = a.priors().len() > 1;
         // An estimator's name in labels: the bitmask's with its prior when several are run.
-        let named = |e: Estimator, thickness: f32| match e {
-            Estimator::Bitmask if several => format!("bitmask {}", thickness_label(thickness)),
-            e => e.name().to_string(),
+        // ... and with its guard band when some band is above 0.
+        let named = |e: Estimator, thickness: f32, guard: u32| {
+            let mut name = match e {
+                Estimator::Bitmask if several => {
+                    format!("bitmask {}", thickness_label(thickness))
+                }
+                e => e.name().to_string(),
+            };
+            if a.guard_labels() {
+                name = format!("{name} g{guard}");
+            }
+            name
         };
-        for (e, thickness, ao) in screen_aos.iter_mut() {
+        for (e, thickness, guard, ao) in screen_aos.iter_mut() {
             let t = Instant::now();
             let p = AoParams {
                 thickness: *thickness,
                 ..params
             };
+            let input = guarded(*guard);
             ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
             let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
             eprintln!(
                 "  {} screen-space reference: {:.1} s",
-                named(*e, *thickness),
+                named(*e, *thickness, *guard),
                 t.elapsed().as_secs_f64()
             );
-            screen.push((*e, *thickness, out));
+            screen.push((*e, *thickness, *guard, out));
         }
-        let screen_of = |e: Estimator, thickness: f32| {
+        let screen_of = |e: Estimator, thickness: f32, guard: u32| {
             screen
                 .iter()
-                .find(|s| s.0 == e && (e != Estimator::Bitmask || s.1 == thickness))
-                .map(|s| &s.2)
+                .find(|s| s.0 == e && (e != Estimator::Bitmask || s.1 == thickness) && s.2 == guard)
+                .map(|s| &s.3)
         };
         let white = vec![1.0f32; (w * h) as usize];
         // (label, estimator, mode, image, time, options)
@@ -391,9 +419,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             None,
             None,
         )];
-        for (e, thickness, img) in &screen {
+        for (e, thickness, guard, img) in &screen {
             results.push((
-                format!("{} screen-space reference", named(*e, *thickness)),
+                format!("{} screen-space reference", named(*e, *thickness, *guard)),
                 e.name().into(),
                 "screen-reference".into(),
                 img.clone(),
@@ -451,8 +479,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // work, so that the prepared normals can be read back), where they come out at full
         // resolution (not after box/tent filtering below it).
         let mut bent_of = std::collections::HashMap::new();
-        for (label, o) in variants.iter().filter(|(_, o)| {
+        for (_, (label, o)) in variants.iter().enumerate().filter(|(i, (_, o))| {
             a.bent_normals
+                && guard_of[*i] == 0
                 && o.estimator.has_bent_normals()
                 && (o.resolution == obscura::Resolution::Full || !o.denoise.downsamples())
                 && o.resolution != obscura::Resolution::Scaled
@@ -495,16 +524,17 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
             // The variant's thickness prior picks the bitmask's screen-space reference.
             // (Rows after the variants are images scored: no prior.)
-            let thickness = k
-                .checked_sub(first_variant)
+            let variant = k.checked_sub(first_variant);
+            let thickness = variant
                 .and_then(|i| thickness_of.get(i).copied())
                 .unwrap_or(obscura::DEFAULT_THICKNESS);
+            let guard = variant.and_then(|i| guard_of.get(i).copied()).unwrap_or(0);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
                 full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });
             let screen = ms
                 .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
-                .and_then(|e| screen_of(e, thickness));
+                .and_then(|e| screen_of(e, thickness, guard));
             rows.push(Row {
                 view: job.name.clone(),
                 variant: name.clone(),

@@ -1,6 +1,6 @@
 //! The variants one `eval` run compares: every estimator × layout × sample choice ×
 //! resolution (downsample rule, upsampler) × denoiser, the continuous scales, and each
-//! `--frames` count.
+//! `--frames` count and guard band.
 
 use super::args::EvalArgs;
 use crate::options::PresetArg;
@@ -27,6 +27,8 @@ pub(super) struct Variants {
     pub(super) thickness_of: Vec<f32>,
     /// Each variant's frame count.
     pub(super) frames_of: Vec<u32>,
+    /// Each variant's guard band, pixels (`AoInput::guard_band`).
+    pub(super) guard_of: Vec<u32>,
     /// The longest frame count: the orbit's length.
     pub(super) orbit_frames: u32,
 }
@@ -181,17 +183,24 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     }
     let mut frames_of: Vec<u32> = Vec::new();
     let mut thickness_of: Vec<f32> = Vec::new();
+    let mut guard_of: Vec<u32> = Vec::new();
     for &f in &counts {
-        for (label, o, scale, thickness) in &single {
-            let (mut label, mut o) = (label.clone(), *o);
-            if f > 1 {
-                o.history = a.history;
-                label = format!("{label} ×{f}");
+        for &guard in &a.guards() {
+            for (label, o, scale, thickness) in &single {
+                let (mut label, mut o) = (label.clone(), *o);
+                if f > 1 {
+                    o.history = a.history;
+                    label = format!("{label} ×{f}");
+                }
+                if a.guard_labels() {
+                    label = format!("{label} g{guard}");
+                }
+                variants.push((label, o));
+                scales.push(*scale);
+                frames_of.push(f);
+                thickness_of.push(*thickness);
+                guard_of.push(guard);
             }
-            variants.push((label, o));
-            scales.push(*scale);
-            frames_of.push(f);
-            thickness_of.push(*thickness);
         }
     }
     let orbit_frames = counts.iter().copied().max().unwrap_or(1);
@@ -200,6 +209,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
         scales,
         thickness_of,
         frames_of,
+        guard_of,
         orbit_frames,
     })
 }

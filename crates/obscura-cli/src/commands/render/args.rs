@@ -106,6 +106,17 @@ pub struct RenderArgs {
     /// surface, the nearest sample on silhouettes. Normals are reconstructed from it.
     #[arg(long, conflicts_with = "depth")]
     pub msaa: bool,
+    /// Rasterize the scene this many pixels beyond each side of the image (same pixel size,
+    /// a wider view) and let the AO read that depth: occluders just off-screen then darken
+    /// the image's edges, as they do inside it. The output keeps --width × --height.
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 0,
+        value_parser = clap::value_parser!(u32).range(0..=1024),
+        conflicts_with_all = ["depth", "msaa", "orbit", "ssdo", "depth_out", "normals_out", "bent_normals_out"]
+    )]
+    pub guard_band: u32,
     /// A captured depth map instead of a scene: 16-bit PNG or uint16 .npy (units set by the
     /// intrinsics' depth_scale, default millimetres), or float EXR / float16/32/64 .npy (scene
     /// units already: depth_scale is not applied), C or Fortran order. 0, NaN and infinite

@@ -375,6 +375,7 @@ pub fn run(a: &RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
             .as_ref()
             .map(|v| (v, obscura::NormalEncoding::ViewSigned)),
         viewport: None,
+        guard_band: 0,
         output: None,
     };
     ao.validate(&input, &params)?;

@@ -112,7 +112,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         gbuffer = None;
         msaa_depth.ao_input(&cam)
     } else {
-        gbuffer = Some(raster.render(&ctx, &gpu_mesh, &cam, a.width, a.height)?);
+        let size = (a.width, a.height);
+        gbuffer = Some(raster.render_guarded(&ctx, &gpu_mesh, &cam, size, a.guard_band)?);
         let g = gbuffer.as_ref().context("no G-buffer")?;
         g.ao_input(&cam, a.normals == NormalSource::Gbuffer)
     };
@@ -121,9 +122,16 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         a.width,
         a.height,
         if a.msaa {
-            ", depth only, 4x MSAA (obscura resolves it; normals reconstructed)"
+            ", depth only, 4x MSAA (obscura resolves it; normals reconstructed)".to_string()
+        } else if a.guard_band > 0 {
+            format!(
+                " and a guard band of {} px ({}x{} rasterized)",
+                a.guard_band,
+                a.width + 2 * a.guard_band,
+                a.height + 2 * a.guard_band
+            )
         } else {
-            ""
+            String::new()
         },
         t.elapsed().as_secs_f64() * 1e3
     );

@@ -224,7 +224,7 @@ mod tests {
             &projection,
             DepthConvention::LinearView,
             None,
-            viewport,
+            (viewport, 0),
             &AoOptions::default(),
             &params,
         )

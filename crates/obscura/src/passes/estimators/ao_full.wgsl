@@ -3,6 +3,9 @@
 // with an estimator (hbao.wgsl or gtao.wgsl: `estimate`), ao_store_full.wgsl and an
 // ao_bent*.wgsl.
 
+// 1: skip the guard band beyond GUARD_AO_MARGIN (common.wgsl, `beyond_output`), writing 1.
+override SKIP_BAND: u32 = 1u;
+
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var prepared_in: texture_2d<f32>;
 
@@ -22,6 +25,11 @@ fn sample_depth(q: vec2<i32>) -> f32 {
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(gid.xy >= frame.size) {
+        return;
+    }
+    if SKIP_BAND != 0u && beyond_output(gid.xy) {
+        store_ao(gid.xy, gid.xy, 0u, 1.0);
+        store_bent(gid.xy);
         return;
     }
     let p = vec2<i32>(gid.xy);

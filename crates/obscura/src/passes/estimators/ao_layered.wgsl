@@ -6,6 +6,8 @@
 // ao_bent*.wgsl.
 
 override SPLIT: u32 = 4u;
+// 1: skip the guard band beyond GUARD_AO_MARGIN (common.wgsl, `beyond_output`), writing 1.
+override SKIP_BAND: u32 = 1u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var prepared_in: texture_2d_array<f32>;
@@ -32,6 +34,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let corner = vec2<u32>(layer % SPLIT, layer / SPLIT);
     let full = gid.xy * SPLIT + corner;
     if any(full >= frame.size) {
+        return;
+    }
+    if SKIP_BAND != 0u && beyond_output(full) {
+        store_ao(full, gid.xy, layer, 1.0);
+        store_bent(full);
         return;
     }
     let pattern = frame.patterns[corner.x + PATTERN_DIM * corner.y];
