@@ -190,9 +190,10 @@ impl Primary {
         }
     }
 
-    /// The surface through pixel position `at` (pixels, y down), if any within the clip
-    /// range.
-    pub fn hit(&self, bvh: &Bvh, at: [f32; 2]) -> Option<PrimaryHit> {
+    /// The world-space ray through pixel position `at` (pixels, y down): origin and a
+    /// direction whose distance `t` along it is the linear view depth (the view ray's z
+    /// component is −1).
+    pub fn ray(&self, at: [f32; 2]) -> (Vec3, Vec3) {
         let ndc = [
             at[0] / self.width as f32 * 2.0 - 1.0,
             1.0 - at[1] / self.height as f32 * 2.0,
@@ -203,8 +204,26 @@ impl Primary {
         } else {
             (Vec3::ZERO, xy + Vec3::NEG_Z)
         };
-        let o = self.view_to_world.transform_point3(o_view);
-        let d = self.view_to_world.transform_vector3(d_view);
+        (
+            self.view_to_world.transform_point3(o_view),
+            self.view_to_world.transform_vector3(d_view),
+        )
+    }
+
+    /// A world-space direction in view space.
+    pub fn to_view(&self, v: Vec3) -> Vec3 {
+        self.world_to_view.transform_vector3(v)
+    }
+
+    /// The near and far clip distances (linear view depth).
+    pub fn clip(&self) -> (f32, f32) {
+        (self.near, self.far)
+    }
+
+    /// The surface through pixel position `at` (pixels, y down), if any within the clip
+    /// range.
+    pub fn hit(&self, bvh: &Bvh, at: [f32; 2]) -> Option<PrimaryHit> {
+        let (o, d) = self.ray(at);
         let (t, triangle) = bvh.closest(o, d, f32::INFINITY)?;
         let point = o + d * t;
         let view_depth = -self.world_to_view.transform_point3(point).z;

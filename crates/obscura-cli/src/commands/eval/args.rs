@@ -131,6 +131,14 @@ pub struct EvalArgs {
     /// truth and the pictures stay the view's. Single frames of clean depth only.
     #[arg(long, value_delimiter = ',', default_value = "0")]
     pub guard_bands: Vec<u32>,
+    /// Also score the bitmask estimator's screen-space limit with renderer layers,
+    /// computed on the CPU from ray-traced layers (obscura-eval's `layers`): one layer
+    /// infinitely thick, with the thickness prior, with back-face thickness bounded by the
+    /// prior, and two layers so; each also with the largest --guard-bands band. Rows
+    /// "limit: …", untimed; DIRECTIONSxSTEPS samples a pixel, no jitter (16x16 takes
+    /// seconds a view and representation).
+    #[arg(long, value_parser = parse_split, value_name = "DIRECTIONSxSTEPS")]
+    pub layer_limits: Option<(u32, u32)>,
     /// Depth downsampling rules for the low resolutions (comma-separated).
     #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,

@@ -39,7 +39,7 @@ use crate::timing::{frame_ms, median};
 use crate::views::{camera_for, Job};
 use anyhow::{bail, Context, Result};
 use obscura::{Ao, AoOptions, AoParams, Estimator, GpuContext, Resolution, Timing};
-use obscura_eval::{cache, metrics, sensor, Bvh, Falloff, PixelSampling, TraceSettings};
+use obscura_eval::{cache, layers, metrics, sensor, Bvh, Falloff, PixelSampling, TraceSettings};
 use obscura_scene::{Camera, GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -463,6 +463,36 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 Some(o),
             ));
         }
+        // The bitmask's screen-space limits with renderer layers (CPU, untimed).
+        if let Some(samples) = a.layer_limits {
+            let t = Instant::now();
+            let bvh = Bvh::new(obscura_eval::triangles(&mesh));
+            let guard = a.guards().into_iter().max().unwrap_or(0);
+            let thickness = a.priors()[0];
+            let prior = thickness * radius;
+            let deep = layers::deep_layers(&bvh, &cam, (w, h), guard, prior);
+            let mut bands = vec![false];
+            if guard > 0 {
+                bands.push(true);
+            }
+            for guarded in bands {
+                for r in layers::Representation::ALL {
+                    let img =
+                        layers::layer_limit(&deep, &cam, (radius, thickness), samples, r, guarded)?;
+                    let mut label = format!("limit: {}", r.name());
+                    if guarded {
+                        label = format!("{label} g{guard}");
+                    }
+                    results.push((label, "limit".into(), String::new(), img, None, None));
+                }
+            }
+            eprintln!(
+                "  layer limits ({}x{} samples): {:.1} s",
+                samples.0,
+                samples.1,
+                t.elapsed().as_secs_f64()
+            );
+        }
         // AO made elsewhere, after the variants (untimed).
         for d in &image_dirs {
             let img = images::load_view(&d.dir, &job.name, w, h)?;
@@ -588,13 +618,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 w,
                 h,
                 t0.elapsed().as_secs_f64(),
-                variants
+                results
                     .iter()
-                    .map(|v| v.0.as_str())
-                    .chain(image_dirs.iter().map(|d| d.label.as_str()))
+                    .skip(1 + screen.len())
+                    .map(|r| r.0.as_str())
                     .collect::<Vec<_>>()
                     .join(" | "),
-                "---|".repeat(variants.len() + image_dirs.len()),
+                "---|".repeat(results.len() - 1 - screen.len()),
                 pic("reference"),
             );
             for (name, _, _, img, _, _) in results.iter().skip(1 + screen.len()) {

@@ -121,9 +121,38 @@ pub fn bitmask_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
     bitmask_pixel_bent(px, p, pattern).0
 }
 
+/// What a sample sees along its view ray: up to two solids, each `(front, back)` in linear
+/// view depth (`back` infinite: infinitely thick). One layer with the thickness prior gives
+/// the first; renderer layers (back faces, a second layer) the others.
+pub type Solids = [Option<(f32, f32)>; 2];
+
 /// The visibility-bitmask AO of one pixel and its bent normal (unit, view space; zero on
 /// sky); mirrors `estimate` in passes/estimators/bitmask.wgsl with BENT_NORMALS.
 pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
+    let thickness = px.f.model[0];
+    let one_layer = |q: [i32; 2]| -> Solids {
+        let solid = px.depth_at(q).filter(|&sd| sd > 0.0).map(|sd| {
+            let back = if thickness > 0.0 {
+                sd + thickness
+            } else {
+                f32::INFINITY
+            };
+            (sd, back)
+        });
+        [solid, None]
+    };
+    bitmask_pixel_solids(px, p, pattern, one_layer)
+}
+
+/// [`bitmask_pixel_bent`] with the solids each sample sees given by `solids(q)` instead of
+/// one layer and the thickness prior: the model of renderer layers, for the CPU's
+/// screen-space limits of each representation (obscura-eval's `layers`).
+pub fn bitmask_pixel_solids(
+    px: &Pixels,
+    p: [i32; 2],
+    pattern: [f32; 4],
+    solids: impl Fn([i32; 2]) -> Solids,
+) -> (f32, Vec3) {
     let f = px.f;
     let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
         return (1.0, Vec3::ZERO);
@@ -134,7 +163,6 @@ pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, 
         Vec3::Z
     };
     let step_px = f.step_px(d, px.steps);
-    let thickness = f.model[0];
     let mut visibility = 0.0;
     let mut weights = 0.0;
     let mut bent = Vec3::ZERO;
@@ -181,32 +209,28 @@ pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, 
                 } else {
                     [p[0] - off[0], p[1] - off[1]]
                 };
-                let Some(sd) = px.depth_at(q) else {
-                    continue;
-                };
-                if sd <= 0.0 {
-                    continue;
-                }
                 let at = centre(q);
-                let front = f.view_position(at, sd) - pos;
-                let r2 = front.dot(front) * f.inv_radius2;
-                let wf = front - axis * front.dot(axis);
-                if r2 >= 1.0 || wf.dot(wf) <= 0.0 {
-                    continue;
-                }
-                let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
-                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
-                let mut ub = if sgn > 0.0 { total } else { 0.0 };
-                if thickness > 0.0 {
-                    let back = f.view_position(at, sd + thickness) - pos;
-                    let wb = back - axis * back.dot(axis);
-                    if wb.dot(wb) > 0.0 {
-                        let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
-                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                for (sd, sb) in solids(q).into_iter().flatten() {
+                    let front = f.view_position(at, sd) - pos;
+                    let r2 = front.dot(front) * f.inv_radius2;
+                    let wf = front - axis * front.dot(axis);
+                    if r2 >= 1.0 || wf.dot(wf) <= 0.0 {
+                        continue;
                     }
+                    let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
+                    let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
+                    let mut ub = if sgn > 0.0 { total } else { 0.0 };
+                    if sb.is_finite() {
+                        let back = f.view_position(at, sb) - pos;
+                        let wb = back - axis * back.dot(axis);
+                        if wb.dot(wb) > 0.0 {
+                            let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
+                            ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                        }
+                    }
+                    let bit = |u: f32| (u * to_bits).round_ties_even().clamp(0.0, SECTORS) as u32;
+                    occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
                 }
-                let bit = |u: f32| (u * to_bits).round_ties_even().clamp(0.0, SECTORS) as u32;
-                occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
             }
         }
         let clear = 1.0 - occluded.count_ones() as f32 / SECTORS;

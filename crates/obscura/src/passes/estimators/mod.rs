@@ -3,7 +3,7 @@
 //! mirror below reads like it (same names, same order of operations).
 
 mod bitmask;
-pub use bitmask::{bitmask_pixel, bitmask_pixel_bent};
+pub use bitmask::{bitmask_pixel, bitmask_pixel_bent, bitmask_pixel_solids, Solids};
 
 use crate::passes::prepare::centre;
 use crate::passes::pyramid::{moments, pyramid, PyramidLevel};
