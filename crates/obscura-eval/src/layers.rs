@@ -100,26 +100,31 @@ pub enum Representation {
     Infinite,
     /// One layer, each surface `prior` deep.
     Prior,
-    /// One layer, as deep as its back face where there is one, at most `prior`.
+    /// One layer, as deep as its back face where there is one, at most `prior` ("back
+    /// faces" in labels: bounded by the prior).
     BackFaces,
+    /// Two layers, each `prior` deep (a renderer with a second layer but no back faces).
+    TwoLayersPrior,
     /// Two layers, each as deep as its back face, at most `prior`.
     TwoLayers,
 }
 
 impl Representation {
-    pub const ALL: [Representation; 4] = [
+    pub const ALL: [Representation; 5] = [
         Representation::Infinite,
         Representation::Prior,
         Representation::BackFaces,
+        Representation::TwoLayersPrior,
         Representation::TwoLayers,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
-            Representation::Infinite => "1 layer, infinitely thick",
-            Representation::Prior => "1 layer, prior",
-            Representation::BackFaces => "1 layer, back faces ≤ prior",
-            Representation::TwoLayers => "2 layers, back faces ≤ prior",
+            Representation::Infinite => "1 layer infinite",
+            Representation::Prior => "1 layer prior",
+            Representation::BackFaces => "1 layer back faces",
+            Representation::TwoLayersPrior => "2 layers prior",
+            Representation::TwoLayers => "2 layers back faces",
         }
     }
 
@@ -139,6 +144,10 @@ impl Representation {
             Representation::Infinite => [Some((l[0], f32::INFINITY)), None],
             Representation::Prior => [Some((l[0], l[0] + prior)), None],
             Representation::BackFaces => [Some((l[0], bounded(l[0], l[1]))), None],
+            Representation::TwoLayersPrior => [
+                Some((l[0], l[0] + prior)),
+                (l[2] > 0.0).then(|| (l[2], l[2] + prior)),
+            ],
             Representation::TwoLayers => [
                 Some((l[0], bounded(l[0], l[1]))),
                 (l[2] > 0.0).then(|| (l[2], bounded(l[2], l[3]))),

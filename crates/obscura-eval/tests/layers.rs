@@ -103,6 +103,10 @@ fn representations_bound_back_faces_by_the_prior() {
         [Some((5.0, 5.5)), None]
     );
     assert_eq!(
+        Representation::TwoLayersPrior.solids(l, p),
+        [Some((5.0, 5.5)), Some((8.0, 8.5))]
+    );
+    assert_eq!(
         Representation::TwoLayers.solids(l, p),
         [Some((5.0, 5.5)), Some((8.0, 8.2))]
     );
@@ -116,8 +120,8 @@ fn representations_bound_back_faces_by_the_prior() {
 
 /// Per pixel, on boxes on a floor seen obliquely: the prior's solids are no deeper than
 /// infinite ones, back faces no deeper than the prior (so each is at least as bright), and
-/// a second layer only adds solids (at least as dark). With the guard band the view's own
-/// pixels read more solids.
+/// a second layer only adds solids (at least as dark), with the prior or with back faces.
+/// With the guard band the view's own pixels read more solids.
 #[test]
 fn limits_are_ordered_by_what_each_representation_sees() {
     let mut tris = cube(Vec3::new(-20.0, -1.0, -40.0), Vec3::new(20.0, 0.0, 0.0));
@@ -137,8 +141,17 @@ fn limits_are_ordered_by_what_each_representation_sees() {
     let inf = run(Representation::Infinite, false);
     let prior = run(Representation::Prior, false);
     let back = run(Representation::BackFaces, false);
+    let two_prior = run(Representation::TwoLayersPrior, false);
     let two = run(Representation::TwoLayers, false);
     for i in 0..inf.len() {
+        assert!(
+            two_prior[i] <= prior[i] + 1e-6,
+            "pixel {i}: second layer brightens"
+        );
+        assert!(
+            two[i] >= two_prior[i] - 1e-6,
+            "pixel {i}: back faces darken"
+        );
         assert!(
             prior[i] >= inf[i] - 1e-6,
             "pixel {i}: {} < {}",

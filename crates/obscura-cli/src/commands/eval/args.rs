@@ -125,17 +125,18 @@ pub struct EvalArgs {
     #[arg(long, value_delimiter = ',')]
     pub march_exponents: Vec<f32>,
     /// Guard bands, pixels on each side (comma-separated, 0 = none): each variant runs
-    /// with each band, labelled "gN" when one is above 0, on depth and normals rasterized
-    /// that far beyond the view with the same pixel size (obscura-scene's
-    /// `GBufferRenderer::render_guarded`), and so do the screen-space references. The
-    /// truth and the pictures stay the view's. Single frames of clean depth only.
+    /// with each band, labelled "gN" when one is above 0, and so do the screen-space
+    /// references. All of them, 0 included, read one raster of the view and the widest
+    /// band (obscura-scene's `GBufferRenderer::render_guarded`, same pixel size), so that
+    /// the bands differ by what they see, not by depth rounding. The truth and the
+    /// pictures stay the view's. Single frames of clean depth only.
     #[arg(long, value_delimiter = ',', default_value = "0")]
     pub guard_bands: Vec<u32>,
     /// Also score the bitmask estimator's screen-space limit with renderer layers,
     /// computed on the CPU from ray-traced layers (obscura-eval's `layers`): one layer
     /// infinitely thick, with the thickness prior, with back-face thickness bounded by the
     /// prior, and two layers so; each also with the largest --guard-bands band. Rows
-    /// "limit: …", untimed; DIRECTIONSxSTEPS samples a pixel, no jitter (16x16 takes
+    /// "limit …", untimed; DIRECTIONSxSTEPS samples a pixel, no jitter (16x16 takes
     /// seconds a view and representation).
     #[arg(long, value_parser = parse_split, value_name = "DIRECTIONSxSTEPS")]
     pub layer_limits: Option<(u32, u32)>,
