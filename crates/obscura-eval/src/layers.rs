@@ -13,6 +13,7 @@
 use crate::bvh::Bvh;
 use crate::trace::Primary;
 use glam::{Vec3, Vec4};
+use obscura::jitter::{pattern_index, PATTERN_DIM};
 use obscura::reference::{bitmask_pixel_solids, Pixels, Solids};
 use obscura::uniforms::FrameUniforms;
 use obscura::{AoMode, AoOptions, AoParams, Denoise, Estimator, NormalEncoding, Viewport};
@@ -156,15 +157,17 @@ impl Representation {
     }
 }
 
-/// The bitmask estimator's screen-space integral (`directions` × `steps`, no jitter; the CPU
-/// mirror's arithmetic) over the view, reading the layers as `rep` says and the band when
-/// `guarded` (else the view alone, as without a guard band). `thickness`: the prior, times
-/// `radius`. The view's AO, row-major.
+/// The bitmask estimator's screen-space integral (`directions` × `steps`; the CPU mirror's
+/// arithmetic) over the view, reading the layers as `rep` says and the band when `guarded`
+/// (else the view alone, as without a guard band). Without `jitter` every pixel samples the
+/// same directions; with it each takes the randomized layout's pattern of its 4 × 4 class
+/// (what the GPU estimator at these counts gives before a denoiser). `thickness`: the
+/// prior, times `radius`. The view's AO, row-major.
 pub fn layer_limit(
     layers: &DeepLayers,
     camera: &Camera,
     (radius, thickness): (f32, f32),
-    (directions, steps): (u32, u32),
+    (directions, steps, jitter): (u32, u32, bool),
     rep: Representation,
     guarded: bool,
 ) -> obscura::Result<Vec<f32>> {
@@ -187,7 +190,7 @@ pub fn layer_limit(
         directions,
         steps,
         mode: AoMode::Randomized,
-        jitter: false,
+        jitter,
         denoise: Denoise::None,
         ..AoOptions::default()
     };
@@ -227,11 +230,11 @@ pub fn layer_limit(
         }
         rep.solids(layers.depth[at(q[0] as u32, q[1] as u32)], prior)
     };
-    let pattern = f.patterns[0];
     let rows = parallel_rows(h, |y| {
         (0..w)
             .map(|x| {
                 let p = [(x + pg) as i32, (y + pg) as i32];
+                let pattern = f.patterns[pattern_index(x + pg, y + pg, PATTERN_DIM)];
                 bitmask_pixel_solids(&px, p, pattern, solids).0
             })
             .collect::<Vec<f32>>()

@@ -121,7 +121,7 @@ fn representations_bound_back_faces_by_the_prior() {
 /// Per pixel, on boxes on a floor seen obliquely: the prior's solids are no deeper than
 /// infinite ones, back faces no deeper than the prior (so each is at least as bright), and
 /// a second layer only adds solids (at least as dark), with the prior or with back faces.
-/// With the guard band the view's own pixels read more solids.
+/// With the guard band the view's own pixels read more solids; jittered, too.
 #[test]
 fn limits_are_ordered_by_what_each_representation_sees() {
     let mut tris = cube(Vec3::new(-20.0, -1.0, -40.0), Vec3::new(20.0, 0.0, 0.0));
@@ -136,8 +136,9 @@ fn limits_are_ordered_by_what_each_representation_sees() {
     };
     let (radius, thickness) = (1.0, 0.5);
     let l = deep_layers(&bvh, &cam, (48, 32), 6, thickness * radius);
-    let run =
-        |rep, guarded| layer_limit(&l, &cam, (radius, thickness), (8, 8), rep, guarded).unwrap();
+    let run = |rep, guarded| {
+        layer_limit(&l, &cam, (radius, thickness), (8, 8, false), rep, guarded).unwrap()
+    };
     let inf = run(Representation::Infinite, false);
     let prior = run(Representation::Prior, false);
     let back = run(Representation::BackFaces, false);
@@ -178,4 +179,22 @@ fn limits_are_ordered_by_what_each_representation_sees() {
     );
     let banded = run(Representation::Infinite, true);
     assert!(strict(&inf, &banded), "the band changes the edges");
+    // Jittered per pixel (the randomized layout's patterns), each pixel keeps the ordering.
+    let jit = |rep| layer_limit(&l, &cam, (radius, thickness), (4, 4, true), rep, false).unwrap();
+    let (one, two) = (
+        jit(Representation::Prior),
+        jit(Representation::TwoLayersPrior),
+    );
+    assert!(one.iter().zip(&two).all(|(a, b)| *b <= a + 1e-6));
+    assert!(strict(&one, &jit(Representation::Infinite)) || strict(&one, &two));
+    let fixed = layer_limit(
+        &l,
+        &cam,
+        (radius, thickness),
+        (4, 4, false),
+        Representation::Prior,
+        false,
+    )
+    .unwrap();
+    assert!(strict(&one, &fixed), "the patterns vary by pixel");
 }

@@ -140,6 +140,11 @@ pub struct EvalArgs {
     /// seconds a view and representation).
     #[arg(long, value_parser = parse_split, value_name = "DIRECTIONSxSTEPS")]
     pub layer_limits: Option<(u32, u32)>,
+    /// --layer-limits with each pixel's directions jittered as the randomized layout's
+    /// (its 4 × 4 patterns): what the bitmask estimator at those counts gives with each
+    /// representation before a denoiser.
+    #[arg(long, requires = "layer_limits")]
+    pub layer_jitter: bool,
     /// Depth downsampling rules for the low resolutions (comma-separated).
     #[arg(long, value_parser = parse_downsample, value_delimiter = ',', default_value = "checkerboard")]
     pub downsamples: Vec<DepthDownsample>,

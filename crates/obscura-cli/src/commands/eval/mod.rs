@@ -480,9 +480,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             }
             for guarded in bands {
                 for r in layers::Representation::ALL {
+                    let samples = (samples.0, samples.1, a.layer_jitter);
                     let img =
                         layers::layer_limit(&deep, &cam, (radius, thickness), samples, r, guarded)?;
-                    let mut label = format!("limit {}", r.name());
+                    let mut label = if a.layer_jitter {
+                        format!("bitmask {}×{} jittered, {}", samples.0, samples.1, r.name())
+                    } else {
+                        format!("limit {}", r.name())
+                    };
                     if guarded {
                         label = format!("{label} g{guard}");
                     }
