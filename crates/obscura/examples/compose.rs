@@ -1,15 +1,21 @@
 //! A minimal wgpu app that draws a lit scene and darkens it with obscura's AO.
 //!
-//!     cargo run --release -p obscura --example compose -- [out.png]
+//!     cargo run --release -p obscura --example compose -- [out.png] [--guard-band PX]
 //!
 //! The app's own part (geometry, a Lambert render pass) is what any renderer already has.
 //! The integration is the five steps marked `// obscura, step N` (the crate docs list the
 //! same five): depth readable, create once, an AO texture, record per frame, read the AO
 //! in lighting (here a compute pass multiplies the lit colour by the AO).
 //! Headless: writes a PNG (default `compose.png`) instead of presenting to a window.
+//!
+//! `--guard-band PX`: the app draws PX pixels beyond each side of the image (a projection
+//! widened by the same pixels) and obscura reads them, so boxes just off screen darken the
+//! image's edges too (`AoInput::guard_band`; docs/guide/integrate.md, "A guard band").
 
 use glam::Vec3;
-use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, Projection};
+use obscura::{
+    Ao, AoInput, AoOptions, AoParams, DepthConvention, GpuContext, Projection, Viewport,
+};
 
 const W: u32 = 960;
 const H: u32 = 540;
@@ -56,27 +62,29 @@ struct Out { @builtin(position) pos: vec4<f32>, @location(0) n: vec3<f32> }
     let lit = 0.25 + 0.75 * max(dot(normalize(i.n), normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
     return vec4<f32>(vec3<f32>(0.9, 0.8, 0.7) * lit, 1.0);
 }
-// Compose: lit colour x AO.
+// Compose: lit colour x AO (the colour GUARD pixels in from its corner, past the band).
+override GUARD: u32 = 0u;
 @group(0) @binding(0) var color: texture_2d<f32>;
 @group(0) @binding(1) var ao: texture_2d<f32>;
 @group(0) @binding(2) var out: texture_storage_2d<rgba8unorm, write>;
 @compute @workgroup_size(8, 8) fn compose(@builtin(global_invocation_id) g: vec3<u32>) {
     if any(g.xy >= textureDimensions(out)) { return; }
-    let c = textureLoad(color, g.xy, 0);
+    let c = textureLoad(color, g.xy + vec2<u32>(GUARD), 0);
     textureStore(out, g.xy, vec4<f32>(c.rgb * textureLoad(ao, g.xy, 0).x, 1.0));
 }
 "#;
 
 fn target(
     ctx: &GpuContext,
+    (width, height): (u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: None,
         size: wgpu::Extent3d {
-            width: W,
-            height: H,
+            width,
+            height,
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,
@@ -89,9 +97,23 @@ fn target(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let out_path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "compose.png".into());
+    let mut out_path = "compose.png".to_string();
+    let mut guard = 0u32;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        if a == "--guard-band" {
+            let px = args.next().ok_or("--guard-band needs a number of pixels")?;
+            guard = px
+                .parse()
+                .ok()
+                .filter(|&g| g <= 1024)
+                .ok_or(format!("--guard-band takes 0..=1024 pixels, not `{px}`"))?;
+        } else {
+            out_path = a;
+        }
+    }
+    // The app's own render targets cover the image and the band around it.
+    let drawn = (W + 2 * guard, H + 2 * guard);
     let ctx = GpuContext::new()?; // any wgpu device works; this one prefers a real GPU
     let dev = &ctx.device;
     use wgpu::util::DeviceExt;
@@ -104,6 +126,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Vec3::new(0.0, 0.5, 0.0),
         Vec3::Y,
     );
+    // With a band, the app draws with the projection widened by it (same pixel size).
+    let widen = Vec3::new(W as f32 / drawn.0 as f32, H as f32 / drawn.1 as f32, 1.0);
+    let proj_drawn = glam::Mat4::from_scale(widen) * proj;
     let verts = scene();
     let vbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
@@ -112,7 +137,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
-        contents: bytemuck::cast_slice(&(proj * view).to_cols_array()),
+        contents: bytemuck::cast_slice(&(proj_drawn * view).to_cols_array()),
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -121,12 +146,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     let color = target(
         &ctx,
+        drawn,
         wgpu::TextureFormat::Rgba8Unorm,
         U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
     );
     // obscura, step 1: obscura reads the depth buffer: give it TEXTURE_BINDING usage.
     let depth = target(
         &ctx,
+        drawn,
         wgpu::TextureFormat::Depth32Float,
         U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
     );
@@ -181,12 +208,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // TEXTURE_BINDING for lighting), so the lighting bind group is made once.
     let ao_tex = target(
         &ctx,
+        (W, H),
         wgpu::TextureFormat::R32Float,
         U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
     );
     let ao_view = ao_tex.create_view(&Default::default());
     let composed = target(
         &ctx,
+        (W, H),
         wgpu::TextureFormat::Rgba8Unorm,
         U::STORAGE_BINDING | U::COPY_SRC,
     );
@@ -195,7 +224,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         layout: None,
         module: &module,
         entry_point: Some("compose"),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &[("GUARD", guard as f64)],
+            ..Default::default()
+        },
         cache: None,
     });
     let composed_view = composed.create_view(&Default::default());
@@ -252,8 +284,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             convention: DepthConvention::Standard,
             projection,
             normals: None,
-            viewport: None,
-            guard_band: 0,
+            // The image inside the band (the band's depth is read, not output); the
+            // projection stays the image's own.
+            viewport: Some(Viewport {
+                x: guard,
+                y: guard,
+                width: W,
+                height: H,
+            }),
+            guard_band: guard,
             output: Some(&ao_view),
         };
         let params = AoParams {
