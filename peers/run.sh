@@ -5,6 +5,10 @@
 # package registries (PyPI for vtk, numpy, Pillow). Not part of CI or the README's tests.
 #
 #   bash peers/run.sh [OBSCURA_BINARY]     (default: builds target/release/obscura)
+#
+# Timing alternates: ROUNDS rounds (default 3), each every VTK kernel then obscura's eval,
+# so that both see the same machine; the table takes each one's median over the rounds and
+# prints each round's ratio of VTK's default to obscura's default.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=peers/out
@@ -26,20 +30,31 @@ if [ ! -x "$out/venv/bin/python" ]; then
 fi
 "$out/venv/bin/pip" install --quiet vtk numpy pillow
 kernels="16 32 64"
+rounds=${ROUNDS:-3}
 dirs=()
 for k in $kernels; do
-  "$out/venv/bin/python" peers/vtk/ssao.py "$out/views.json" "$out/vtk-k$k" --kernel "$k"
   dirs+=("$out/vtk-k$k")
 done
-
-# 3. obscura's default and its presets at full and half resolution, with and without the
-#    denoiser, with every peer's
-#    images, in one eval run.
-"$bin" eval --all --estimators gtao --modes deinterleaved2,randomized \
-  --presets low,medium,high,ultra --resolutions full,half --denoise none,spatial --runs 5 \
-  --no-screen-reference \
-  --score-images "$(IFS=,; echo "${dirs[*]}")" \
-  --json "$out/eval.json" --report "$out/report"
+evals=()
+for r in $(seq 1 "$rounds"); do
+  echo "round $r of $rounds" >&2
+  for k in $kernels; do
+    "$out/venv/bin/python" peers/vtk/ssao.py "$out/views.json" "$out/vtk-k$k" --kernel "$k" \
+      --times "times-r$r.json"
+  done
+  # 3. obscura's default and its presets at full and half resolution, with and without
+  #    the denoiser, with every peer's images scored, in one eval run (a report once).
+  report=(--no-pictures)
+  if [ "$r" = 1 ]; then
+    report=(--report "$out/report")
+  fi
+  "$bin" eval --all --estimators gtao --modes deinterleaved2,randomized \
+    --presets low,medium,high,ultra --resolutions full,half --denoise none,spatial --runs 3 \
+    --no-screen-reference \
+    --score-images "$(IFS=,; echo "${dirs[*]}")" \
+    --json "$out/eval-r$r.json" "${report[@]}"
+  evals+=("$out/eval-r$r.json")
+done
 
 # 4. The table.
-python3 peers/table.py "$out/eval.json" "${dirs[@]}" | tee "$out/table.md"
+python3 peers/table.py "$(IFS=,; echo "${evals[*]}")" "${dirs[@]}" | tee "$out/table.md"

@@ -1,14 +1,14 @@
 """VTK's vtkSSAOPass on obscura's shared views, for `obscura eval --score-images`.
 
-    python peers/vtk/ssao.py VIEWS_JSON OUT_DIR [--kernel 32] [--runs 5]
+    python peers/vtk/ssao.py VIEWS_JSON OUT_DIR [--kernel 32] [--runs 5] [--times times.json]
 
 VIEWS_JSON comes from `obscura eval --all --export-views VIEWS_JSON` (each view's scene,
 camera and AO radius). Every surface is white and lit by ambient light only, so a frame is
 the AO: VTK's frame with the SSAO pass divided by the same frame without it, per pixel
 (where the plain frame is lit). MSAA is off: with it the plain frame pays a resolve the
 SSAO frame skips. Writes OUT_DIR/VIEW.png (16-bit grey, 1 = white = unoccluded) and
-OUT_DIR/times.json (median wall time of a frame with and without the pass, after a
-warm-up, alternated). Offscreen through EGL (Mesa's llvmpipe here).
+OUT_DIR/times.json, or the --times name (median wall time of a frame with and without the
+pass, after a warm-up, alternated). Offscreen through EGL (Mesa's llvmpipe here).
 """
 
 import argparse
@@ -129,6 +129,7 @@ def main():
     ap.add_argument("out", type=pathlib.Path)
     ap.add_argument("--kernel", type=int, default=32, help="vtkSSAOPass kernel size (samples)")
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--times", default="times.json", help="file name of the timing in OUT_DIR")
     args = ap.parse_args()
     from PIL import Image
 
@@ -141,7 +142,7 @@ def main():
         times[v["name"]] = {"ssao_ms": ssao_ms, "frame_ms": ms[True], "plain_ms": ms[False]}
         print(f"{v['name']}: SSAO {ssao_ms:.1f} ms (frame {ms[True]:.1f}, plain {ms[False]:.1f})",
               file=sys.stderr)
-    (args.out / "times.json").write_text(json.dumps({"kernel": args.kernel, "views": times}, indent=1))
+    (args.out / args.times).write_text(json.dumps({"kernel": args.kernel, "views": times}, indent=1))
 
 
 if __name__ == "__main__":
