@@ -29,8 +29,10 @@ pub struct DeepLayers {
     pub width: u32,
     pub height: u32,
     pub guard: u32,
-    /// Per pixel `[front 1, back 1, front 2, back 2]`, linear view depth, 0 = none.
-    pub depth: Vec<[f32; 4]>,
+    /// Per pixel `[front 1, back 1, front 2, back 2, front 2', back 2']`, linear view depth,
+    /// 0 = none: layer 2 peeled behind layer 1's solid as bounded by its back face, and
+    /// layer 2' peeled at the prior behind layer 1's front (a renderer without back faces).
+    pub depth: Vec<[f32; 6]>,
     /// Layer 1's view-space normal, facing the camera (zero where there is no surface).
     pub normal: Vec<Vec3>,
 }
@@ -48,7 +50,7 @@ pub fn deep_layers(
     let (bw, bh) = (width + 2 * guard, height + 2 * guard);
     let primary = Primary::new(&camera.widened(height, guard), bw, bh);
     let (near, far) = primary.clip();
-    let rows: Vec<Vec<([f32; 4], Vec3)>> = parallel_rows(bh, |y| {
+    let rows: Vec<Vec<([f32; 6], Vec3)>> = parallel_rows(bh, |y| {
         (0..bw)
             .map(|x| {
                 let (o, d) = primary.ray([x as f32 + 0.5, y as f32 + 0.5]);
@@ -67,7 +69,7 @@ pub fn deep_layers(
                 }
                 let Some(&(t1, front1, n1)) = hits.first().filter(|h| h.0 >= near && h.0 <= far)
                 else {
-                    return ([0.0; 4], Vec3::ZERO);
+                    return ([0.0; 6], Vec3::ZERO);
                 };
                 let after = |t: f32, front: bool| {
                     hits.iter().find(|h| h.0 > t && h.1 == front).map(|h| h.0)
@@ -78,9 +80,13 @@ pub fn deep_layers(
                 let separation = b1.map_or(prior, |b| (b - t1).min(prior));
                 let f2 = after(t1 + separation, true);
                 let b2 = f2.and_then(|f| after(f, false));
+                // Without back faces a renderer peels at the prior.
+                let f2p = after(t1 + prior, true);
+                let b2p = f2p.and_then(|f| after(f, false));
                 let n = primary.to_view(if n1.dot(d) > 0.0 { -n1 } else { n1 });
                 let z = |t: Option<f32>| t.filter(|&t| t <= far).unwrap_or(0.0);
-                ([t1, z(b1), z(f2), z(b2)], n.normalize_or_zero())
+                let depths = [t1, z(b1), z(f2), z(b2), z(f2p), z(b2p)];
+                (depths, n.normalize_or_zero())
             })
             .collect()
     });
@@ -129,8 +135,9 @@ impl Representation {
         }
     }
 
-    /// The solids of a pixel's layers `l` for a prior of `prior` depth units.
-    pub fn solids(self, l: [f32; 4], prior: f32) -> Solids {
+    /// The solids of a pixel's layers `l` ([`DeepLayers::depth`]) for a prior of `prior`
+    /// depth units.
+    pub fn solids(self, l: [f32; 6], prior: f32) -> Solids {
         if l[0] <= 0.0 {
             return [None, None];
         }
@@ -147,7 +154,7 @@ impl Representation {
             Representation::BackFaces => [Some((l[0], bounded(l[0], l[1]))), None],
             Representation::TwoLayersPrior => [
                 Some((l[0], l[0] + prior)),
-                (l[2] > 0.0).then(|| (l[2], l[2] + prior)),
+                (l[4] > 0.0).then(|| (l[4], l[4] + prior)),
             ],
             Representation::TwoLayers => [
                 Some((l[0], bounded(l[0], l[1]))),

@@ -47,7 +47,9 @@ impl GBuffer {
     /// `with_normals` (else reconstructed), and the view inside its guard band.
     pub fn ao_input(&self, camera: &Camera, with_normals: bool) -> obscura::AoInput<'_> {
         let g = self.guard_band;
-        let (w, h) = (self.width - 2 * g, self.height - 2 * g);
+        // (A band wider than the textures gives an empty viewport, refused by obscura.)
+        let inner = |s: u32| s.saturating_sub(g.saturating_mul(2));
+        let (w, h) = (inner(self.width), inner(self.height));
         obscura::AoInput {
             depth: &self.depth_view,
             convention: obscura::DepthConvention::Standard,
@@ -249,6 +251,10 @@ impl GBufferRenderer {
         (width, height): (u32, u32),
         guard: u32,
     ) -> Result<GBuffer, SceneError> {
+        if width == 0 || height == 0 {
+            let max = ctx.device.limits().max_texture_dimension_2d;
+            return Err(obscura::Error::TooLarge { width, height, max }.into());
+        }
         let too_wide = || SceneError::Camera(format!("a guard band of {guard} px is too wide"));
         let grow = |s: u32| s.checked_add(guard.checked_mul(2)?);
         let (width, height) = (

@@ -32,7 +32,10 @@ pub struct AoInput<'a> {
     /// viewport's; the passes widen it over the band. The AO is computed over the band
     /// too and cropped, so it costs the band's pixels; the intermediate textures
     /// ([`crate::Ao::bent_normals`], [`crate::Ao::prepared`], the history) cover the
-    /// viewport grown by the band, the viewport at (band, band).
+    /// viewport grown by the band, the viewport at (band, band). Beyond
+    /// [`crate::constants::GUARD_AO_MARGIN`] working texels of the viewport (without a
+    /// history) the AO pass skips the band: AO 1 and zero bent normals there.
+    /// [`crate::Lights`] and [`crate::Ssdo`] refuse frames with a band.
     pub guard_band: u32,
     /// Where to write the AO: a view of a whole `R32Float` 2D texture (one mip, one layer)
     /// of the viewport's size with `STORAGE_BINDING` usage; 1 = unoccluded. `None`: a

@@ -297,6 +297,7 @@ impl Lights {
         lights: &[PointLight],
     ) -> Result<()> {
         let prepared = prepared.into();
+        frame.refuse_guard_band("0: Lights shades frames without a guard band")?;
         if lights.len() > LIGHTS_MAX as usize {
             return Err(Error::InvalidSetting {
                 field: "lights",

@@ -295,6 +295,7 @@ impl Ssdo {
         frame: &FrameUniforms,
         lighting: &SsdoLighting,
     ) -> Result<()> {
+        frame.refuse_guard_band("0: Ssdo shades frames without a guard band")?;
         inputs.validate(frame.size)?;
         let finite = lighting
             .irradiance

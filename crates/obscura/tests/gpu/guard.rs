@@ -197,7 +197,8 @@ fn guard_band_is_the_crop_of_the_widened_frame() {
     assert_eq!(c.read_f32(&target).unwrap(), own);
 }
 
-/// A band wider than the margin around the viewport, on any side, is refused before GPU work.
+/// A band wider than the margin around the viewport, on any side, is refused before GPU
+/// work; so is a guarded frame given to `Lights`.
 #[test]
 fn guard_band_must_fit_the_depth_texture() {
     let _g = lock();
@@ -232,4 +233,21 @@ fn guard_band_must_fit_the_depth_texture() {
         ao.validate(&huge, &params),
         Err(Error::InvalidViewport(_))
     ));
+    // Lights shade the processed rectangle and do not crop: a guarded frame is refused.
+    let (_, ao) = run(randomized(), &guarded_input(&view, p, G), &params);
+    let frame = ao.validate(&guarded_input(&view, p, G), &params).unwrap();
+    let mut lights = obscura::Lights::new(&c.device, Default::default()).unwrap();
+    let prepared = ao.prepared().unwrap();
+    let mut enc = c.device.create_command_encoder(&Default::default());
+    let refused = lights.record(&c.device, &c.queue, &mut enc, prepared, &frame, &[]);
+    assert!(
+        matches!(
+            refused,
+            Err(Error::InvalidSetting {
+                field: "guard_band",
+                ..
+            })
+        ),
+        "{refused:?}"
+    );
 }

@@ -134,8 +134,9 @@ pub struct EvalArgs {
     pub guard_bands: Vec<u32>,
     /// Also score the bitmask estimator's screen-space limit with renderer layers,
     /// computed on the CPU from ray-traced layers (obscura-eval's `layers`): one layer
-    /// infinitely thick, with the thickness prior, with back-face thickness bounded by the
-    /// prior, and two layers so; each also with the largest --guard-bands band. Rows
+    /// infinitely thick, with the thickness prior (the first --thickness), with back-face
+    /// thickness bounded by the prior, and two layers with the prior or so; each also with
+    /// the largest --guard-bands band; march exponent 1. Rows
     /// "limit …", untimed; DIRECTIONSxSTEPS samples a pixel, no jitter (16x16 takes
     /// seconds a view and representation).
     #[arg(long, value_parser = parse_split, value_name = "DIRECTIONSxSTEPS")]

@@ -533,6 +533,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     ..*o
                 },
             )?;
+            let input = guarded(0);
             ctx.run(|enc| b.record(&ctx.device, &ctx.queue, enc, &input, &params))?;
             let bent = ctx.read_f32(b.bent_normals().context("bent normals missing")?)?;
             let prepared = b.prepared_view().context("prepared buffer missing")?;
@@ -547,10 +548,17 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         let r = &reference.ao;
         // The full-resolution result of the same estimator, mode and samples, if evaluated.
-        let full_of = |o: &AoOptions| {
-            results.iter().find_map(|r| {
+        // (Variant i is results row first_variant + i; its guard band must match too.)
+        let first_variant = 1 + screen.len();
+        let full_of = |o: &AoOptions, guard: u32| {
+            results.iter().enumerate().find_map(|(k, r)| {
+                let same_band = k
+                    .checked_sub(first_variant)
+                    .and_then(|i| guard_of.get(i))
+                    .is_some_and(|&g| g == guard);
                 r.5.filter(|f| {
-                    f.direct()
+                    same_band
+                        && f.direct()
                         && f.estimator == o.estimator
                         && f.mode == o.mode
                         && (f.directions, f.steps) == (o.directions, o.steps)
@@ -558,7 +566,6 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .map(|_| &r.3)
             })
         };
-        let first_variant = 1 + screen.len();
         for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
             // The variant's thickness prior picks the bitmask's screen-space reference.
             // (Rows after the variants are images scored: no prior.)
@@ -568,7 +575,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .unwrap_or(obscura::DEFAULT_THICKNESS);
             let guard = variant.and_then(|i| guard_of.get(i).copied()).unwrap_or(0);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
-                full_of(&o).map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
+                full_of(&o, guard)
+                    .map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });
             let screen = ms
                 .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
