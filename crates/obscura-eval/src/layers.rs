@@ -18,6 +18,7 @@ use obscura::reference::{bitmask_pixel_solids, Pixels, Solids};
 use obscura::uniforms::FrameUniforms;
 use obscura::{AoMode, AoOptions, AoParams, Denoise, Estimator, NormalEncoding, Viewport};
 use obscura_scene::Camera;
+use rayon::prelude::*;
 
 /// Hits followed along one primary ray at most.
 const MAX_HITS: usize = 8;
@@ -249,26 +250,7 @@ pub fn layer_limit(
     Ok(rows.into_iter().flatten().collect())
 }
 
-/// `row(y)` for every row, on every core.
-fn parallel_rows<T: Send>(rows: u32, row: impl Fn(u32) -> T + Sync) -> Vec<T> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
-    let row = &row;
-    std::thread::scope(|s| {
-        let handles: Vec<_> = (0..threads)
-            .map(|k| {
-                s.spawn(move || {
-                    (k..rows)
-                        .step_by(threads as usize)
-                        .map(|y| (y, row(y)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        let mut out: Vec<(u32, T)> = handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("a layer thread panicked"))
-            .collect();
-        out.sort_by_key(|r| r.0);
-        out.into_iter().map(|r| r.1).collect()
-    })
+/// `row(y)` for every row, in order, on every core (rayon, as the ray tracer).
+fn parallel_rows<T: Send>(rows: u32, row: impl Fn(u32) -> T + Sync + Send) -> Vec<T> {
+    (0..rows).into_par_iter().map(row).collect()
 }
