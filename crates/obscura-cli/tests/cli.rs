@@ -868,10 +868,9 @@ fn eval_rejects_bad_input() {
                 "cornell",
                 "--guard-bands",
                 "0,16",
-                "--frames",
-                "1,8",
+                "--msaa",
             ][..],
-            "--guard-bands evaluates single frames",
+            "--guard-bands evaluates clean single-sampled depth",
         ),
         (
             &["eval", "--view", "cornell", "--guard-bands", "2000"][..],
@@ -888,10 +887,10 @@ fn eval_rejects_bad_input() {
     }
 }
 
-/// `eval --guard-bands 0,16`: each variant and each screen-space reference once per band,
-/// labelled; a variant's sampling bias is measured against the screen-space reference of
-/// its own band (its bias minus that reference's, to the JSON's rounding); the band changes
-/// the AO.
+/// `eval --guard-bands 0,16 --frames 1,3`: each variant and each screen-space reference
+/// once per band, labelled; a variant's sampling bias is measured against the screen-space
+/// reference of its own band (its bias minus that reference's, to the JSON's rounding); the
+/// band changes the AO, of accumulated frames on the orbit too.
 #[test]
 fn eval_runs_each_guard_band_against_its_own_reference() {
     let d = scratch("eval-guard");
@@ -911,6 +910,8 @@ fn eval_runs_each_guard_band_against_its_own_reference() {
         "randomized",
         "--guard-bands",
         "0,16",
+        "--frames",
+        "1,3",
         "--no-pictures",
     ];
     // Sponza: its arcade runs off the view's sides (the Cornell box's walls continue flat
@@ -941,6 +942,16 @@ fn eval_runs_each_guard_band_against_its_own_reference() {
         bias("gtao g0 screen-space reference"),
         bias("gtao g16 screen-space reference"),
         "the band changes the reference"
+    );
+    // Accumulated frames with a band: still and orbit, on the banded raster.
+    let orbit = |variant: &str| record(&v, variant)["orbit_rmse"].as_f64().unwrap();
+    let (bare, banded) = (
+        orbit("gtao randomized ×3 g0"),
+        orbit("gtao randomized ×3 g16"),
+    );
+    assert!(
+        bare > 0.0 && banded > 0.0 && bare != banded,
+        "{bare} {banded}"
     );
     std::fs::remove_dir_all(d).unwrap();
 }

@@ -133,6 +133,9 @@ impl Camera {
     /// volume). obscura takes the band with this camera's own projection
     /// ([`obscura::AoInput::guard_band`]).
     pub fn widened(&self, height: u32, guard: u32) -> Camera {
+        if guard == 0 {
+            return *self;
+        }
         let grow = (height as f64 + 2.0 * guard as f64) / height.max(1) as f64;
         let projection = match self.projection {
             CameraProjection::Perspective { fov_y_deg } => {

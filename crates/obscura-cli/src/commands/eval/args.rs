@@ -128,8 +128,8 @@ pub struct EvalArgs {
     /// with each band, labelled "gN" when one is above 0, and so do the screen-space
     /// references. All of them, 0 included, read one raster of the view and the widest
     /// band (obscura-scene's `GBufferRenderer::render_guarded`, same pixel size), so that
-    /// the bands differ by what they see, not by depth rounding. The truth and the
-    /// pictures stay the view's. Single frames of clean depth only.
+    /// the bands differ by what they see, not by depth rounding (the orbit of --frames too).
+    /// The truth and the pictures stay the view's. Clean single-sampled depth only.
     #[arg(long, value_delimiter = ',', default_value = "0")]
     pub guard_bands: Vec<u32>,
     /// Also score the bitmask estimator's screen-space limit with renderer layers,
@@ -378,13 +378,8 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     if let Some(g) = a.guard_bands.iter().find(|&&g| g > 1024) {
         bail!("--guard-bands must each be in 0..=1024 pixels (got {g})");
     }
-    if a.guard_bands.iter().any(|&g| g > 0)
-        && (temporal_run || a.msaa || a.sensor != SensorArg::None)
-    {
-        bail!(
-            "--guard-bands evaluates single frames of clean single-sampled depth \
-             (not with --frames above 1, --msaa or --sensor)"
-        );
+    if a.guard_bands.iter().any(|&g| g > 0) && (a.msaa || a.sensor != SensorArg::None) {
+        bail!("--guard-bands evaluates clean single-sampled depth (not with --msaa or --sensor)");
     }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
         bail!(

@@ -302,6 +302,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 }
                 ao.reset_history();
                 let p = of_variant(i);
+                let input = guarded(guard_of[i]);
                 for _ in 0..frames_of[i] {
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 }
@@ -322,8 +323,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             let mut previous: Option<Camera> = None;
             for k in 0..orbit_frames {
                 let c = cam.orbit(a.orbit_step * (k as f32 - (orbit_frames - 1) as f32));
-                let gk = raster.render(&ctx, &gpu_mesh, &c, w, h)?;
-                let ik = gk.ao_input(&c, a.normal_source() == NormalSource::Gbuffer);
+                // With guard bands, the orbit's frames carry the widest band too.
+                let gk = raster.render_guarded(&ctx, &gpu_mesh, &c, (w, h), widest)?;
+                let gbuffer_normals = a.normal_source() == NormalSource::Gbuffer;
                 for (i, ao) in aos.iter_mut().enumerate() {
                     let first = orbit_frames - frames_of[i];
                     if frames_of[i] == 1 || k < first {
@@ -337,6 +339,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                         motion,
                         ..of_variant(i)
                     };
+                    let ik = AoInput {
+                        guard_band: guard_of[i],
+                        ..gk.ao_input(&c, gbuffer_normals)
+                    };
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
                 }
                 previous = Some(c);
@@ -349,12 +355,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 let hist = ctx.read_f32(ao.history().context("history missing")?)?;
                 let scaled = ao.options().resolution == Resolution::Scaled;
                 let f = ao.options().resolution.factor();
-                let hw = w.div_ceil(f);
+                // With a guard band the history covers the view and the band, the view's
+                // pixel c at c + band.
+                let g = guard_of[i];
+                let hw = (w + 2 * g).div_ceil(f);
                 let texel = |c: u32| {
                     if scaled {
-                        ((c as f32 + 0.5) * scales[i]) as u32
+                        ((c as f32 + g as f32 + 0.5) * scales[i]) as u32
                     } else {
-                        c / f
+                        (c + g) / f
                     }
                 };
                 let frames: Vec<f32> = (0..(w * h))
