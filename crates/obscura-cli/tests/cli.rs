@@ -111,16 +111,7 @@ fn render_msaa_resolves_multisampled_depth() {
             );
         }
     }
-    let read = |p: &Path| -> Vec<f32> {
-        let bytes = std::fs::read(p).unwrap();
-        // .npy version 1: 10-byte preamble, then the header, then little-endian f32.
-        let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-        bytes[10 + header..]
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
-    };
-    let (a, b) = (read(&single), read(&msaa));
+    let (a, b) = (read_npy_f32(&single, 90, 160), read_npy_f32(&msaa, 90, 160));
     assert_eq!(a.len(), 160 * 90);
     let mean = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).sum::<f32>() / a.len() as f32;
     assert!(mean < 0.01, "mean |single − MSAA| = {mean}");
@@ -165,15 +156,10 @@ fn render_guard_band_keeps_the_size_and_darkens_the_edges() {
             );
         }
     }
-    let read = |p: &Path| -> Vec<f32> {
-        let bytes = std::fs::read(p).unwrap();
-        let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-        bytes[10 + header..]
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
-    };
-    let (a, b) = (read(&plain), read(&banded));
+    let (a, b) = (
+        read_npy_f32(&plain, 90, 160),
+        read_npy_f32(&banded, 90, 160),
+    );
     assert_eq!((a.len(), b.len()), (160 * 90, 160 * 90));
     let mean_diff = |inside: &dyn Fn(usize, usize) -> bool| {
         let (mut sum, mut n) = (0.0, 0);

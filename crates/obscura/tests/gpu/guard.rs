@@ -6,7 +6,7 @@
 //! without the band the viewport's edges differ; a band that leaves the depth texture is
 //! refused; repeated frames create nothing.
 
-use super::{crop, ctx, lock, persp, randomized, test_scene, upload_r32, H, W};
+use super::{caller_output, crop, ctx, lock, persp, randomized, test_scene, upload_r32, H, W};
 use obscura::{
     Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, Error, Estimator, Projection, Resolution,
     Viewport,
@@ -171,20 +171,7 @@ fn guard_band_is_the_crop_of_the_widened_frame() {
     let raw = test_scene(&widened(p, W, H, G), bw, bh);
     let depth = upload_r32(&raw, bw, bh);
     let view = depth.create_view(&Default::default());
-    let target = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("caller ao"),
-        size: wgpu::Extent3d {
-            width: W,
-            height: H,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = caller_output(W, H);
     let target_view = target.create_view(&Default::default());
     let (own, _) = run(AoOptions::default(), &guarded_input(&view, p, G), &params);
     let mut ao = Ao::new(&c.device, AoOptions::default()).unwrap();

@@ -2073,20 +2073,7 @@ fn caller_output_receives_the_same_ao() {
         radius: 1.5,
         ..Default::default()
     };
-    let target = c.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("caller ao"),
-        size: wgpu::Extent3d {
-            width: W,
-            height: H,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = caller_output(W, H);
     let target_view = target.create_view(&Default::default());
     for options in [
         randomized(),
@@ -2125,6 +2112,24 @@ fn caller_output_receives_the_same_ao() {
         assert_eq!(c.read_f32(&target).unwrap(), own, "{options:?}");
         assert!(ao.output().is_none(), "{options:?}: no library output made");
     }
+}
+
+/// A caller's AO output: `R32Float`, `w` × `h`, storage and copy-source usage.
+fn caller_output(w: u32, h: u32) -> wgpu::Texture {
+    ctx().device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("caller ao"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
 }
 
 /// A `Depth32Float` texture holding `raw`: written by a fragment shader through
