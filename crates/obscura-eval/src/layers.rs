@@ -230,6 +230,7 @@ pub fn layer_limit(
         lattice: 1,
         pyramid: &[],
         moments: &[],
+        second: &[],
     };
     let prior = thickness * radius;
     let solids = |q: [i32; 2]| -> Solids {

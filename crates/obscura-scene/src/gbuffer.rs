@@ -41,6 +41,14 @@ pub struct GBuffer {
     pub guard_band: u32,
 }
 
+/// A second depth layer of a [`GBuffer`] ([`GBufferRenderer::peel`]): [`DEPTH_FORMAT`],
+/// standard convention, the G-buffer's size; for [`obscura::AoInput::second_layer`].
+#[derive(Debug)]
+pub struct DepthLayer {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
 impl GBuffer {
     /// obscura's input for this G-buffer seen by `camera` (the view's camera, not the
     /// widened one): standard depth, the camera's projection, the G-buffer's normals when
@@ -63,6 +71,7 @@ impl GBuffer {
                 height: h,
             }),
             guard_band: g,
+            second_layer: None,
             output: None,
         }
     }
@@ -87,19 +96,34 @@ impl MsaaDepth {
             projection: camera.obscura_projection(self.width as f32 / self.height as f32),
             normals: None,
             viewport: None,
+            second_layer: None,
             guard_band: 0,
             output: None,
         }
     }
 }
 
-/// The G-buffer render pipelines: depth and normals, and multisampled depth alone.
+/// The G-buffer render pipelines: depth and normals, multisampled depth alone, and the
+/// depth peel of a second layer.
 #[derive(Debug)]
 pub struct GBufferRenderer {
     pipeline: wgpu::RenderPipeline,
     msaa_pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     camera: wgpu::Buffer,
+    peel_pipeline: wgpu::RenderPipeline,
+    peel_layout: wgpu::BindGroupLayout,
+    peel: wgpu::Buffer,
+}
+
+/// shaders/peel.wgsl's `Peel`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PeelUniform {
+    a: f32,
+    b: f32,
+    reciprocal: u32,
+    separation: f32,
 }
 
 #[repr(C)]
@@ -112,33 +136,66 @@ struct CameraUniform {
 impl GBufferRenderer {
     pub fn new(device: &wgpu::Device) -> Self {
         let label = Some("gbuffer");
+        // gbuffer.wgsl with the peel's fragment stage after it (one module, three passes).
+        let source = concat!(
+            include_str!("../shaders/gbuffer.wgsl"),
+            "\n",
+            include_str!("../shaders/peel.wgsl")
+        );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label,
-            source: wgpu::ShaderSource::Wgsl(include_str!("../shaders/gbuffer.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
+        let uniform = |binding, visibility| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label,
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+            entries: &[uniform(0, wgpu::ShaderStages::VERTEX)],
+        });
+        let peel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("peel"),
+            entries: &[
+                uniform(0, wgpu::ShaderStages::VERTEX),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                uniform(2, wgpu::ShaderStages::FRAGMENT),
+            ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label,
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let pipeline_layout = |layout| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label,
+                bind_group_layouts: &[Some(layout)],
+                immediate_size: 0,
+            })
+        };
+        let (gbuffer_layout, peel_pipeline_layout) =
+            (pipeline_layout(&layout), pipeline_layout(&peel_layout));
         let targets = [Some(NORMAL_FORMAT.into()), Some(ALBEDO_FORMAT.into())];
-        let make = |samples: u32| {
+        // `samples` per pixel; `peel`: the second layer's pass (front faces, depth only).
+        let make = |samples: u32, peel: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label,
-                layout: Some(&pipeline_layout),
+                layout: Some(if peel {
+                    &peel_pipeline_layout
+                } else {
+                    &gbuffer_layout
+                }),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs_main"),
@@ -157,7 +214,7 @@ impl GBufferRenderer {
                     ],
                 },
                 primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
+                    cull_mode: peel.then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
@@ -171,19 +228,35 @@ impl GBufferRenderer {
                     count: samples,
                     ..Default::default()
                 },
-                // Multisampled: depth only.
-                fragment: (samples == 1).then(|| wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
+                // Multisampled: depth only; the peel: depth, with fragments discarded.
+                fragment: match (samples, peel) {
+                    (_, true) => Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_peel"),
+                        compilation_options: Default::default(),
+                        targets: &[],
+                    }),
+                    (1, false) => Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_main"),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    _ => None,
+                },
                 multiview_mask: None,
                 cache: None,
             })
         };
-        let pipeline = make(1);
-        let msaa_pipeline = make(MSAA_SAMPLES);
+        let pipeline = make(1, false);
+        let msaa_pipeline = make(MSAA_SAMPLES, false);
+        let peel_pipeline = make(1, true);
+        let peel = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("peel"),
+            size: std::mem::size_of::<PeelUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let camera = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gbuffer camera"),
             size: std::mem::size_of::<CameraUniform>() as u64,
@@ -195,6 +268,9 @@ impl GBufferRenderer {
             msaa_pipeline,
             layout,
             camera,
+            peel_pipeline,
+            peel_layout,
+            peel,
         }
     }
 
@@ -272,7 +348,7 @@ impl GBufferRenderer {
         self.draw(
             ctx,
             mesh,
-            &self.pipeline,
+            (&self.pipeline, &self.camera_bind(ctx)),
             Some((&normals_view, &albedo_view)),
             &depth_view,
         )?;
@@ -289,6 +365,65 @@ impl GBufferRenderer {
         })
     }
 
+    /// Peels `gbuffer`'s second depth layer (rendered from `camera` by [`Self::render`] or
+    /// [`Self::render_guarded`]): per pixel the nearest front face at least `separation`
+    /// (linear view depth; obscura's thickness prior, [`obscura::AoParams::thickness`]
+    /// times the radius) behind the first layer, as [`obscura::AoInput::second_layer`]
+    /// wants it; the far plane (sky) where there is none. Waits for completion.
+    pub fn peel(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        gbuffer: &GBuffer,
+        separation: f32,
+    ) -> Result<DepthLayer, SceneError> {
+        if !(separation.is_finite() && separation > 0.0) {
+            return Err(SceneError::Camera(format!(
+                "the second layer's separation {separation} must be finite and > 0"
+            )));
+        }
+        let (w, h, g) = (gbuffer.width, gbuffer.height, gbuffer.guard_band);
+        let camera = &camera.widened(h - 2 * g, g);
+        self.set_camera(ctx, camera, w, h)?;
+        let lin = camera
+            .obscura_projection(w as f32 / h as f32)
+            .linearize(obscura::DepthConvention::Standard)?;
+        let uniform = PeelUniform {
+            a: lin.a,
+            b: lin.b,
+            reciprocal: lin.reciprocal as u32,
+            separation,
+        };
+        ctx.queue
+            .write_buffer(&self.peel, 0, bytemuck::bytes_of(&uniform));
+        let depth = target(ctx, w, h, DEPTH_FORMAT, 1);
+        let view = depth.create_view(&Default::default());
+        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("peel"),
+            layout: &self.peel_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&gbuffer.depth_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.peel.as_entire_binding(),
+                },
+            ],
+        });
+        self.draw(ctx, mesh, (&self.peel_pipeline, &bind), None, &view)?;
+        Ok(DepthLayer {
+            texture: depth,
+            view,
+        })
+    }
+
     /// Renders the depth of `mesh` from `camera` with [`MSAA_SAMPLES`] samples per pixel,
     /// waiting for completion.
     pub fn render_msaa_depth(
@@ -302,12 +437,25 @@ impl GBufferRenderer {
         self.set_camera(ctx, camera, width, height)?;
         let depth = target(ctx, width, height, DEPTH_FORMAT, MSAA_SAMPLES);
         let depth_view = depth.create_view(&Default::default());
-        self.draw(ctx, mesh, &self.msaa_pipeline, None, &depth_view)?;
+        let bind = self.camera_bind(ctx);
+        self.draw(ctx, mesh, (&self.msaa_pipeline, &bind), None, &depth_view)?;
         Ok(MsaaDepth {
             depth,
             depth_view,
             width,
             height,
+        })
+    }
+
+    /// The G-buffer's bind group: the camera.
+    fn camera_bind(&self, ctx: &GpuContext) -> wgpu::BindGroup {
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gbuffer"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.camera.as_entire_binding(),
+            }],
         })
     }
 
@@ -339,18 +487,10 @@ impl GBufferRenderer {
         &self,
         ctx: &GpuContext,
         mesh: &GpuMesh,
-        pipeline: &wgpu::RenderPipeline,
+        (pipeline, bind): (&wgpu::RenderPipeline, &wgpu::BindGroup),
         colour_views: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
         depth_view: &wgpu::TextureView,
     ) -> Result<(), SceneError> {
-        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("gbuffer"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.camera.as_entire_binding(),
-            }],
-        });
         let attachment = |view, clear| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -395,7 +535,7 @@ impl GBufferRenderer {
                 multiview_mask: None,
             });
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_vertex_buffer(1, mesh.colours.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);

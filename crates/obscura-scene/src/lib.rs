@@ -8,7 +8,7 @@ pub mod gbuffer;
 pub mod mesh;
 
 pub use camera::{Camera, CameraProjection};
-pub use gbuffer::{GBuffer, GBufferRenderer, GpuMesh, MsaaDepth, ALBEDO_FORMAT};
+pub use gbuffer::{DepthLayer, GBuffer, GBufferRenderer, GpuMesh, MsaaDepth, ALBEDO_FORMAT};
 pub use mesh::{Aabb, Mesh, DEFAULT_ALBEDO};
 
 /// Errors from loading scenes and cameras.

@@ -64,6 +64,7 @@ fn render_with(
         normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
         viewport: None,
         guard_band: 0,
+        second_layer: None,
         output: None,
     };
     let params = AoParams {
@@ -199,6 +200,92 @@ fn guard_band_render_holds_the_plain_view_in_its_middle() {
             cam.projection,
             w * h
         );
+    }
+}
+
+/// The depth peel on stacked quads seen orthographically from z = 10: front faces at
+/// linear depths 5 (everywhere), 6 (left half) and 7 (everywhere), and a back face at 5.5
+/// (wound the other way). The second layer is the nearest front face at least the
+/// separation behind the first: 6 on the left and 7 on the right with separation 0.5 (never
+/// the back face), 7 with 1.5, none with 2.5 (tolerance 1e-4 of the depth; the two columns
+/// beside the middle are skipped). A guard band peels the same layer around the view, and
+/// a separation that is not positive is refused.
+#[test]
+fn peel_finds_the_nearest_front_face_behind_the_separation() {
+    let _g = lock();
+    let c = ctx();
+    let mut mesh = Mesh::default();
+    let quad = |z: f32| {
+        [
+            [-9.0, -9.0, z],
+            [9.0, -9.0, z],
+            [9.0, 9.0, z],
+            [-9.0, 9.0, z],
+        ]
+    };
+    let front = [0, 1, 2, 0, 2, 3];
+    let back = [0, 2, 1, 0, 3, 2];
+    mesh.append(glam::Mat4::IDENTITY, &quad(5.0), &front);
+    mesh.append(glam::Mat4::IDENTITY, &quad(4.5), &back);
+    mesh.append(glam::Mat4::IDENTITY, &quad(3.0), &front);
+    let left_only = [
+        [-9.0, -9.0, 4.0],
+        [0.0, -9.0, 4.0],
+        [0.0, 9.0, 4.0],
+        [-9.0, 9.0, 4.0],
+    ];
+    mesh.append(glam::Mat4::IDENTITY, &left_only, &front);
+    let cam = Camera {
+        eye: glam::Vec3::new(0.0, 0.0, 10.0),
+        target: glam::Vec3::ZERO,
+        up: glam::Vec3::Y,
+        projection: CameraProjection::Orthographic { height: 6.0 },
+        near: 0.1,
+        far: 50.0,
+    };
+    let raster = GBufferRenderer::new(&c.device);
+    let gm = raster.upload(c, &mesh).unwrap();
+    let (w, h) = (64u32, 32u32);
+    for guard in [0u32, 8] {
+        let gb = raster.render_guarded(c, &gm, &cam, (w, h), guard).unwrap();
+        let lin = cam
+            .obscura_projection(w as f32 / h as f32)
+            .linearize(DepthConvention::Standard)
+            .unwrap();
+        for (separation, left, right) in [
+            (0.5, Some(6.0), Some(7.0)),
+            (1.5, Some(7.0), Some(7.0)),
+            (2.5, None, None),
+        ] {
+            let second = raster.peel(c, &gm, &cam, &gb, separation).unwrap();
+            assert_eq!(
+                (second.texture.width(), second.texture.height()),
+                (gb.width, gb.height)
+            );
+            let depth = c.read_f32(&second.texture).unwrap();
+            let bw = gb.width as usize;
+            for y in 0..gb.height as usize {
+                for x in 0..bw {
+                    let xv = x as i64 - guard as i64;
+                    if (w as i64 / 2 - 1..=w as i64 / 2).contains(&xv) {
+                        continue;
+                    }
+                    let want = if xv < w as i64 / 2 { left } else { right };
+                    let got = lin.apply(depth[y * bw + x]);
+                    let ok = match (got, want) {
+                        (Some(g), Some(e)) => (g - e).abs() <= 1e-4 * e,
+                        (g, e) => g.is_none() && e.is_none(),
+                    };
+                    assert!(ok, "guard {guard}, separation {separation}, pixel ({x}, {y}): {got:?}, want {want:?}");
+                }
+            }
+        }
+        for bad in [0.0, -1.0, f32::NAN] {
+            assert!(matches!(
+                raster.peel(c, &gm, &cam, &gb, bad),
+                Err(SceneError::Camera(_))
+            ));
+        }
     }
 }
 

@@ -1,6 +1,6 @@
 //! A minimal wgpu app that draws a lit scene and darkens it with obscura's AO.
 //!
-//!     cargo run --release -p obscura --example compose -- [out.png] [--guard-band PX]
+//!     cargo run --release -p obscura --example compose -- [out.png] [--guard-band PX] [--second-layer]
 //!
 //! The app's own part (geometry, a Lambert render pass) is what any renderer already has.
 //! The integration is the five steps marked `// obscura, step N` (the crate docs list the
@@ -11,6 +11,10 @@
 //! `--guard-band PX`: the app draws PX pixels beyond each side of the image (a projection
 //! widened by the same pixels) and obscura reads them, so boxes just off screen darken the
 //! image's edges too (`AoInput::guard_band`; docs/guide/integrate.md, "A guard band").
+//!
+//! `--second-layer`: the app also peels a second depth layer (the nearest front face at
+//! least the thickness prior behind the first) and obscura's bitmask estimator reads it
+//! where the first hides it (`AoInput::second_layer`; the guide's "A second depth layer").
 
 use glam::Vec3;
 use obscura::{
@@ -72,6 +76,18 @@ override GUARD: u32 = 0u;
     let c = textureLoad(color, g.xy + vec2<u32>(GUARD), 0);
     textureStore(out, g.xy, vec4<f32>(c.rgb * textureLoad(ao, g.xy, 0).x, 1.0));
 }
+// The second depth layer (--second-layer), a depth peel: a fragment survives only
+// SEPARATION (linear view depth) or more behind the first layer at its pixel; front faces
+// only (the pipeline culls back faces), the nearest survivor kept by the depth test.
+override NEAR: f32 = 0.1;
+override FAR: f32 = 50.0;
+override SEPARATION: f32 = 0.6;
+@group(0) @binding(1) var first: texture_depth_2d;
+fn linear(z: f32) -> f32 { return NEAR * FAR / (FAR - z * (FAR - NEAR)); }
+@fragment fn peel(i: Out) {
+    let z = textureLoad(first, vec2<i32>(i.pos.xy), 0);
+    if z >= 1.0 || linear(i.pos.z) < linear(z) + SEPARATION { discard; }
+}
 "#;
 
 fn target(
@@ -99,9 +115,12 @@ fn target(
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out_path = "compose.png".to_string();
     let mut guard = 0u32;
+    let mut second_layer = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        if a == "--guard-band" {
+        if a == "--second-layer" {
+            second_layer = true;
+        } else if a == "--guard-band" {
             let px = args.next().ok_or("--guard-band needs a number of pixels")?;
             guard = px
                 .parse()
@@ -120,7 +139,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     use wgpu::TextureUsages as U;
 
     // --- The app: camera, geometry, a depth + colour render pass. ---
-    let proj = glam::camera::rh::proj::directx::perspective(1.0, W as f32 / H as f32, 0.1, 50.0);
+    let (near, far) = (0.1, 50.0);
+    let proj = glam::camera::rh::proj::directx::perspective(1.0, W as f32 / H as f32, near, far);
     let view = glam::camera::rh::view::look_at_mat4(
         Vec3::new(3.0, 3.0, 6.0),
         Vec3::new(0.0, 0.5, 0.0),
@@ -157,41 +177,69 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wgpu::TextureFormat::Depth32Float,
         U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
     );
-    let (color_view, depth_view) = (
+    // With --second-layer, the peeled layer: a second depth target of the same kind.
+    let second = target(
+        &ctx,
+        drawn,
+        wgpu::TextureFormat::Depth32Float,
+        U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
+    );
+    let (color_view, depth_view, second_view) = (
         color.create_view(&Default::default()),
         depth.create_view(&Default::default()),
+        second.create_view(&Default::default()),
     );
-    let draw = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: None,
-        layout: None,
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs"),
-            buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: 24,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-            })],
-            compilation_options: Default::default(),
-        },
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs"),
-            targets: &[Some(wgpu::TextureFormat::Rgba8Unorm.into())],
-            compilation_options: Default::default(),
-        }),
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    });
+    let params = AoParams {
+        radius: 0.6,
+        ..Default::default()
+    };
+    // The lit pass, and the peel: depth only, front faces, the fragment stage discarding.
+    let pipeline = |peel: bool| {
+        let constants = [
+            ("NEAR", near as f64),
+            ("FAR", far as f64),
+            ("SEPARATION", (params.thickness * params.radius) as f64),
+        ];
+        let targets = [Some(wgpu::TextureFormat::Rgba8Unorm.into())];
+        dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: None,
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 24,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+                })],
+                compilation_options: Default::default(),
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(if peel { "peel" } else { "fs" }),
+                targets: if peel { &[] } else { &targets },
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: if peel { &constants } else { &[] },
+                    ..Default::default()
+                },
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: peel.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let (draw, peel) = (pipeline(false), pipeline(true));
     let draw_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &draw.get_bind_group_layout(0),
@@ -200,9 +248,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             resource: ubuf.as_entire_binding(),
         }],
     });
+    let peel_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &peel.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: ubuf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&depth_view),
+            },
+        ],
+    });
 
-    // obscura, step 2: once, at start-up: compile the passes, describe the camera.
-    let mut ao = Ao::new(dev, AoOptions::default())?;
+    // obscura, step 2: once, at start-up: compile the passes, describe the camera. (A
+    // second layer is read by the bitmask estimator.)
+    let options = if second_layer {
+        AoOptions {
+            estimator: obscura::Estimator::Bitmask,
+            second_layer: true,
+            ..AoOptions::default()
+        }
+    } else {
+        AoOptions::default()
+    };
+    let mut ao = Ao::new(dev, options)?;
     let projection = Projection::from_matrix(proj.to_cols_array_2d(), DepthConvention::Standard)?;
     // obscura, step 3: an R32Float AO texture the app owns (STORAGE_BINDING for obscura,
     // TEXTURE_BINDING for lighting), so the lighting bind group is made once.
@@ -278,6 +350,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             pass.set_vertex_buffer(0, vbuf.slice(..));
             pass.draw(0..verts.len() as u32, 0..1);
         }
+        if second_layer {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &second_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_pipeline(&peel);
+            pass.set_bind_group(0, &peel_bind, &[]);
+            pass.set_vertex_buffer(0, vbuf.slice(..));
+            pass.draw(0..verts.len() as u32, 0..1);
+        }
         // obscura, step 4: per frame, into the same encoder, after the depth is written.
         let input = AoInput {
             depth: &depth_view,
@@ -293,11 +383,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 height: H,
             }),
             guard_band: guard,
+            second_layer: second_layer.then_some(&second_view),
             output: Some(&ao_view),
-        };
-        let params = AoParams {
-            radius: 0.6,
-            ..Default::default()
         };
         ao.record(dev, &ctx.queue, enc, &input, &params)?;
         // obscura, step 5: lighting reads the AO (1 = unoccluded); here lit colour x AO.

@@ -18,7 +18,7 @@
 //!    the AO (or leave [`AoInput::output`] `None` and read [`Ao::output_view`]).
 //! 4. Each frame, after the depth pass, into the same encoder:
 //!    `ao.record(&device, &queue, &mut encoder, &AoInput { depth, convention, projection,
-//!    normals: None, viewport: None, guard_band: 0, output: Some(&ao_view) }, &AoParams { radius, ..Default::default() })?;`
+//!    normals: None, viewport: None, guard_band: 0, second_layer: None, output: Some(&ao_view) }, &AoParams { radius, ..Default::default() })?;`
 //!    — it validates, writes one uniform buffer and records the passes; no GPU objects
 //!    are created after the first frame at a size.
 //! 5. Read the AO (1 = unoccluded) in your lighting, e.g. multiply the ambient term.

@@ -409,6 +409,7 @@ impl Renderer {
             normals: normals.map(|v| (v, crate::NormalEncoding::ViewSigned)),
             viewport: None,
             guard_band: 0,
+            second_layer: None,
             output: None,
         };
         self.ao.restart();

@@ -66,6 +66,15 @@ impl Ao {
             .and_then(|s| s.texture(Res::LinearDepth))
     }
 
+    /// The second depth layer's linear view depth (`R32Float`, 0 = none) over the
+    /// processed rectangle, as the prepare pass wrote it ([`crate::AoOptions::second_layer`]),
+    /// for debugging/tests.
+    pub fn second_layer(&self) -> Option<&wgpu::Texture> {
+        self.sized
+            .as_ref()
+            .and_then(|s| s.texture(Res::SecondLayer))
+    }
+
     /// The depth pyramid (`Rgba32Float`, `vec4(select, min, max, 0)`, mip m = level m + 1)
     /// when the estimator or the upsampler uses one.
     pub fn pyramid(&self) -> Option<&wgpu::Texture> {

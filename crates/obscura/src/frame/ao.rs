@@ -59,6 +59,7 @@ impl Ao {
                     store,
                     reconstruct,
                     fit,
+                    second_layer: options.second_layer,
                 };
                 compile(device, pass, &options)
             })
@@ -189,6 +190,7 @@ impl Ao {
                 store: self.plan.prepare_store,
                 reconstruct: true,
                 fit: true,
+                second_layer: self.options.second_layer,
             };
             let compiled = compile(device, pass, &self.options);
             scope.pop("compiling the noisy-depth prepare pass")?;
@@ -203,6 +205,7 @@ impl Ao {
         let inputs = PrepareInputs {
             depth: depth_view,
             normals,
+            second: input.second_layer,
             fit,
         };
         let prepare_bind = sized.bind_prepare(

@@ -36,6 +36,9 @@ pub enum Res {
     Prepared,
     /// `linear depth`: full size, LINEAR_DEPTH_FORMAT (written by [`PrepareStore::Down`]).
     LinearDepth,
+    /// `second layer`: full size, LINEAR_DEPTH_FORMAT: the second depth layer's linear
+    /// depth, written by the prepare pass ([`AoOptions::second_layer`]).
+    SecondLayer,
     /// `prepared_layers`: work layer size × N² layers, PREPARED_FORMAT (deinterleaved).
     PreparedLayers,
     /// `prepared` downsampled k ≥ 1 times by the depth rule: `ceil(full / 2^k)`.
@@ -176,6 +179,11 @@ impl Plan {
         }
     }
 
+    /// Whether the prepare pass linearises a second depth layer ([`AoOptions::second_layer`]).
+    pub fn second_layer(&self) -> bool {
+        self.options.second_layer
+    }
+
     /// The distinct passes after prepare, in order of first use (each compiled once).
     pub fn passes(&self) -> Vec<Pass> {
         let mut out: Vec<Pass> = Vec::new();
@@ -191,7 +199,7 @@ impl Plan {
     /// pass's targets, then every texture a step binds (both textures of a history; the
     /// whole pyramid for a mip). The output is not among them ([`Lifetime::Caller`]).
     pub fn textures(&self) -> Vec<Res> {
-        let mut used: Vec<Res> = prepare_targets(self.prepare_store)
+        let mut used: Vec<Res> = prepare_targets(self.prepare_store, self.options.second_layer)
             .into_iter()
             .map(|t| t.1)
             .collect();
@@ -231,6 +239,7 @@ impl Plan {
         let (label, dims, layers, format) = match r {
             Res::Prepared => ("obscura prepared", at(1), 1, PREPARED_FORMAT),
             Res::LinearDepth => ("obscura linear depth", at(1), 1, LINEAR_DEPTH_FORMAT),
+            Res::SecondLayer => ("obscura second layer", at(1), 1, LINEAR_DEPTH_FORMAT),
             Res::PreparedLayers => ("obscura prepared layers", lsize, n * n, PREPARED_FORMAT),
             Res::Level(k) => ("obscura prepared level", at(1 << k), 1, PREPARED_FORMAT),
             Res::Scaled => ("obscura prepared at scale", at(1), 1, PREPARED_FORMAT),
@@ -342,16 +351,21 @@ impl Dispatch {
     }
 }
 
-/// What the prepare pass stores, and the textures it writes, by binding.
-pub fn prepare_targets(store: PrepareStore) -> Vec<(u32, Res)> {
-    match store {
+/// What the prepare pass stores, and the textures it writes, by binding; `second_layer`:
+/// the second depth layer's too.
+pub fn prepare_targets(store: PrepareStore, second_layer: bool) -> Vec<(u32, Res)> {
+    let mut targets = match store {
         PrepareStore::Full => vec![(3, Res::Prepared)],
         PrepareStore::Layers => vec![(3, Res::PreparedLayers)],
         PrepareStore::Down { normals: true, .. } => vec![(3, Res::Level(1)), (4, Res::Prepared)],
         PrepareStore::Down { normals: false, .. } => {
             vec![(3, Res::Level(1)), (4, Res::LinearDepth)]
         }
+    };
+    if second_layer {
+        targets.push((6, Res::SecondLayer));
     }
+    targets
 }
 
 /// How the prepare pass stores for `options`, and the passes after it, in order;
@@ -475,17 +489,26 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         if bent {
             v.push((4, bent_current));
         }
+        if o.second_layer {
+            v.push((5, Res::SecondLayer));
+        }
         v
     };
     let e = o.estimator;
+    let second_layer = o.second_layer;
     let layers = |merge| Pass::AoLayered {
         merge,
         estimator: e,
         bent,
+        second_layer,
     };
     match (n > 1, fused_prepare, direct) {
         (false, ..) => steps.push(step(
-            Pass::AoFull { estimator: e, bent },
+            Pass::AoFull {
+                estimator: e,
+                bent,
+                second_layer,
+            },
             pyramid(vec![(1, work_prepared), (2, ao_target)]),
             FrameAt::Work,
             Grid::Level(work_level),
@@ -673,6 +696,7 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
                 merge: true,
                 estimator,
                 bent: false,
+                second_layer: false,
             },
             vec![(1, Res::PreparedLayers), (2, Res::AoWork)],
             FrameAt::Work,
@@ -683,6 +707,7 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
             Pass::AoFull {
                 estimator,
                 bent: false,
+                second_layer: false,
             },
             vec![(1, Res::Scaled), (2, Res::AoWork)],
             FrameAt::Work,

@@ -149,6 +149,7 @@ impl Resolve {
 pub(crate) struct PrepareBinding {
     pub depth: wgpu::TextureView,
     pub normals: Option<wgpu::TextureView>,
+    pub second: Option<wgpu::TextureView>,
     /// Bound to the plane-fitting prepare pipeline.
     pub fit: bool,
     pub bind_group: wgpu::BindGroup,
@@ -156,11 +157,12 @@ pub(crate) struct PrepareBinding {
 
 /// What the prepare pass reads this frame: the depth (the caller's, or the MSAA
 /// resolve's), the normals bound (the caller's, or a placeholder) with the caller's if any,
-/// and whether the plane-fitting pipeline runs.
+/// the caller's second depth layer if any, and whether the plane-fitting pipeline runs.
 #[derive(Debug)]
 pub(crate) struct PrepareInputs<'a> {
     pub depth: wgpu::TextureView,
     pub normals: (&'a wgpu::TextureView, Option<&'a wgpu::TextureView>),
+    pub second: Option<&'a wgpu::TextureView>,
     pub fit: bool,
 }
 
@@ -404,15 +406,19 @@ impl SizedResources {
         let PrepareInputs {
             depth,
             normals,
+            second,
             fit,
         } = inputs;
-        let cached = self
-            .prepare_binding
-            .as_ref()
-            .is_some_and(|b| b.depth == depth && b.normals.as_ref() == normals.1 && b.fit == fit);
+        let cached = self.prepare_binding.as_ref().is_some_and(|b| {
+            b.depth == depth
+                && b.normals.as_ref() == normals.1
+                && b.second.as_ref() == second
+                && b.fit == fit
+        });
         if !cached {
             let mut views = vec![(1, &depth), (2, normals.0)];
-            for (b, r) in super::plan::prepare_targets(plan.prepare_store) {
+            views.extend(second.map(|s| (5, s)));
+            for (b, r) in super::plan::prepare_targets(plan.prepare_store, plan.second_layer()) {
                 let Some(target) = self.view(r) else {
                     return Err(Error::Gpu("no prepare target".into()));
                 };
@@ -423,6 +429,7 @@ impl SizedResources {
             self.prepare_binding = Some(PrepareBinding {
                 depth,
                 normals: normals.1.cloned(),
+                second: second.cloned(),
                 fit,
                 bind_group: bg,
             });

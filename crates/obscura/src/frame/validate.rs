@@ -37,10 +37,63 @@ pub struct AoInput<'a> {
     /// history) the AO pass skips the band: AO 1 and zero bent normals there.
     /// [`crate::Lights`] and [`crate::Ssdo`] refuse frames with a band.
     pub guard_band: u32,
+    /// The second depth layer ([`AoOptions::second_layer`]): per pixel the depth of the
+    /// nearest front-facing surface behind the first layer's, peeled at least the thickness
+    /// prior ([`AoParams::thickness`], times the radius) behind it (a depth-peeling pass
+    /// that discards fragments nearer than that), the clear value where there is none. The
+    /// depth texture's format, size and convention, single-sampled, with
+    /// `TEXTURE_BINDING` usage. Required when the options ask for it, refused otherwise.
+    pub second_layer: Option<&'a wgpu::TextureView>,
     /// Where to write the AO: a view of a whole `R32Float` 2D texture (one mip, one layer)
     /// of the viewport's size with `STORAGE_BINDING` usage; 1 = unoccluded. `None`: a
     /// texture the library owns ([`crate::Ao::output`]).
     pub output: Option<&'a wgpu::TextureView>,
+}
+
+/// The second layer's checks ([`AoInput::second_layer`]).
+fn check_second_layer(options: &AoOptions, input: &AoInput<'_>) -> Result<()> {
+    let bad = |reason: String| {
+        Err(Error::InvalidTexture {
+            what: "second layer",
+            reason,
+        })
+    };
+    let Some(second) = input.second_layer else {
+        if options.second_layer {
+            return bad("the options ask for a second layer (AoOptions::second_layer) but the input has none".into());
+        }
+        return Ok(());
+    };
+    if !options.second_layer {
+        return bad(
+            "the input has one but the options were created without AoOptions::second_layer".into(),
+        );
+    }
+    let (t, d) = (second.texture(), input.depth.texture());
+    if d.sample_count() != 1 {
+        return bad("it needs single-sampled depth; resolve the multisampled depth first".into());
+    }
+    if t.format() != d.format() || t.sample_count() != 1 {
+        return bad(format!(
+            "it is {:?} with {} samples but the depth is {:?}: it must have the depth's format, single-sampled",
+            t.format(),
+            t.sample_count(),
+            d.format()
+        ));
+    }
+    if (t.width(), t.height()) != (d.width(), d.height()) {
+        return bad(format!(
+            "it is {}x{} but the depth texture is {}x{}",
+            t.width(),
+            t.height(),
+            d.width(),
+            d.height()
+        ));
+    }
+    if !t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+        return bad("it lacks TEXTURE_BINDING usage".into());
+    }
+    Ok(())
 }
 
 /// How a depth input binds.
@@ -147,6 +200,7 @@ pub(crate) fn validate(
             });
         }
     }
+    check_second_layer(options, input)?;
     if let Some(out) = input.output {
         let t = out.texture();
         if t.format() != AO_FORMAT {

@@ -74,16 +74,18 @@ pub fn lit_format(packed: bool) -> wgpu::TextureFormat {
 pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
     let rest = match pass {
-        Pass::Prepare { depth, store, .. } => {
+        Pass::Prepare {
+            depth,
+            store,
+            second_layer,
+            ..
+        } => {
+            let raw = match depth {
+                DepthBinding::Depth => wgpu::TextureSampleType::Depth,
+                DepthBinding::Float => UNFILTERED,
+            };
             let mut v = vec![
-                texture_entry(
-                    1,
-                    match depth {
-                        DepthBinding::Depth => wgpu::TextureSampleType::Depth,
-                        DepthBinding::Float => UNFILTERED,
-                    },
-                    D2,
-                ),
+                texture_entry(1, raw, D2),
                 texture_entry(2, UNFILTERED, D2),
                 storage_entry(3, PREPARED_FORMAT, dim(store == PrepareStore::Layers)),
             ];
@@ -95,9 +97,17 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
                 };
                 v.push(storage_entry(4, format, D2));
             }
+            if second_layer {
+                v.extend([
+                    texture_entry(5, raw, D2),
+                    storage_entry(6, LINEAR_DEPTH_FORMAT, D2),
+                ]);
+            }
             v
         }
-        Pass::AoFull { bent, .. } => {
+        Pass::AoFull {
+            bent, second_layer, ..
+        } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, D2),
                 storage_entry(2, AO_FORMAT, D2),
@@ -105,15 +115,26 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             if bent {
                 v.push(storage_entry(4, BENT_FORMAT, D2));
             }
+            if second_layer {
+                v.push(texture_entry(5, UNFILTERED, D2));
+            }
             v
         }
-        Pass::AoLayered { merge, bent, .. } => {
+        Pass::AoLayered {
+            merge,
+            bent,
+            second_layer,
+            ..
+        } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, D2_ARRAY),
                 storage_entry(2, AO_FORMAT, dim(!merge)),
             ];
             if bent {
                 v.push(storage_entry(4, BENT_FORMAT, D2));
+            }
+            if second_layer {
+                v.push(texture_entry(5, UNFILTERED, D2));
             }
             v
         }

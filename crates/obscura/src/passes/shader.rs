@@ -86,23 +86,32 @@ pub enum DepthBinding {
 pub enum Pass {
     /// Linearize depth and build normals, stored as `store` says; `reconstruct`: normals
     /// from depth (else from the caller's texture); `fit`: depth and normals from plane
-    /// fits for noisy depth (with `reconstruct`; [`crate::DepthNoise`]).
+    /// fits for noisy depth (with `reconstruct`; [`crate::DepthNoise`]); `second_layer`:
+    /// the caller's second depth layer linearised too (store `Full` or `Layers` only;
+    /// [`crate::AoOptions::second_layer`]).
     Prepare {
         depth: DepthBinding,
         store: PrepareStore,
         reconstruct: bool,
         fit: bool,
+        second_layer: bool,
     },
     /// The randomized single full-resolution AO pass; `bent`: bent normals written too
-    /// (GTAO, HBAO and the bitmask).
-    AoFull { estimator: Estimator, bent: bool },
+    /// (GTAO, HBAO and the bitmask); `second_layer`: the bitmask reads the second depth
+    /// layer.
+    AoFull {
+        estimator: Estimator,
+        bent: bool,
+        second_layer: bool,
+    },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
-    /// else keep the result in layers for [`Pass::Interleave`]; `bent` as for
-    /// [`Pass::AoFull`] (always written at full resolution).
+    /// else keep the result in layers for [`Pass::Interleave`]; `bent` and `second_layer`
+    /// as for [`Pass::AoFull`] (bent normals always written at full resolution).
     AoLayered {
         merge: bool,
         estimator: Estimator,
         bent: bool,
+        second_layer: bool,
     },
     /// Full-resolution prepared buffer → layers (unfused split).
     Deinterleave,
@@ -172,12 +181,19 @@ impl Pass {
         for depth in [DepthBinding::Depth, DepthBinding::Float] {
             for store in stores.clone() {
                 for (reconstruct, fit) in [(false, false), (true, false), (true, true)] {
-                    v.push(Pass::Prepare {
-                        depth,
-                        store,
-                        reconstruct,
-                        fit,
-                    });
+                    let seconds = match store {
+                        PrepareStore::Full | PrepareStore::Layers => &[false, true][..],
+                        PrepareStore::Down { .. } => &[false][..],
+                    };
+                    for &second_layer in seconds {
+                        v.push(Pass::Prepare {
+                            depth,
+                            store,
+                            reconstruct,
+                            fit,
+                            second_layer,
+                        });
+                    }
                 }
             }
         }
@@ -187,14 +203,26 @@ impl Pass {
             } else {
                 &[false][..]
             };
+            let seconds = if estimator == Estimator::Bitmask {
+                &[false, true][..]
+            } else {
+                &[false][..]
+            };
             for &bent in bents {
-                v.push(Pass::AoFull { estimator, bent });
-                for merge in [true, false] {
-                    v.push(Pass::AoLayered {
-                        merge,
+                for &second_layer in seconds {
+                    v.push(Pass::AoFull {
                         estimator,
                         bent,
+                        second_layer,
                     });
+                    for merge in [true, false] {
+                        v.push(Pass::AoLayered {
+                            merge,
+                            estimator,
+                            bent,
+                            second_layer,
+                        });
+                    }
                 }
             }
         }
@@ -272,27 +300,42 @@ impl Pass {
     /// The pass's label.
     pub fn label(self) -> &'static str {
         match self {
-            Pass::Prepare { depth, store, .. } => {
-                let depth = (depth == DepthBinding::Float) as usize;
+            Pass::Prepare {
+                depth,
+                store,
+                second_layer,
+                ..
+            } => {
+                let depth = (depth == DepthBinding::Float) as usize + 2 * second_layer as usize;
                 match store {
-                    PrepareStore::Full => ["prepare_depth", "prepare_float"][depth],
-                    PrepareStore::Layers => ["prepare_depth_split", "prepare_float_split"][depth],
+                    PrepareStore::Full => [
+                        "prepare_depth",
+                        "prepare_float",
+                        "prepare_depth_second",
+                        "prepare_float_second",
+                    ][depth],
+                    PrepareStore::Layers => [
+                        "prepare_depth_split",
+                        "prepare_float_split",
+                        "prepare_depth_second_split",
+                        "prepare_float_second_split",
+                    ][depth],
                     PrepareStore::Down { .. } => {
                         ["prepare_depth_down", "prepare_float_down"][depth]
                     }
                 }
             }
-            Pass::AoFull { estimator, bent } => ao_label(estimator, 0, bent),
-            Pass::AoLayered {
-                merge: true,
+            Pass::AoFull {
                 estimator,
                 bent,
-            } => ao_label(estimator, 1, bent),
+                second_layer,
+            } => ao_label(estimator, 0, bent, second_layer),
             Pass::AoLayered {
-                merge: false,
+                merge,
                 estimator,
                 bent,
-            } => ao_label(estimator, 2, bent),
+                second_layer,
+            } => ao_label(estimator, 2 - merge as usize, bent, second_layer),
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
             Pass::Pyramid { source } => match source {
@@ -404,6 +447,14 @@ impl Pass {
             PyramidSource::Layers => include_str!("pyramid/pyramid_from_layers.wgsl"),
             PyramidSource::Mip => include_str!("pyramid/pyramid_from_mip.wgsl"),
         };
+        // The bitmask's second depth layer, or its empty interface.
+        let second_source = |e: Estimator, second: bool| {
+            (e == Estimator::Bitmask).then_some(if second {
+                include_str!("estimators/second_layer.wgsl")
+            } else {
+                include_str!("estimators/second_layer_none.wgsl")
+            })
+        };
         let prepared_source = |layers: bool| {
             if layers {
                 include_str!("prepared_layers.wgsl")
@@ -417,6 +468,7 @@ impl Pass {
                 store,
                 reconstruct,
                 fit,
+                second_layer,
             } => {
                 let mut v = vec![
                     match depth {
@@ -447,13 +499,32 @@ impl Pass {
                         },
                     ],
                 });
-                if matches!(store, PrepareStore::Down { .. }) {
-                    v.push(include_str!("prepare/prepare_down.wgsl"));
+                match (store, second_layer, depth) {
+                    (PrepareStore::Down { .. }, ..) => {
+                        v.push(include_str!("prepare/prepare_down.wgsl"))
+                    }
+                    (_, false, _) => v.insert(
+                        v.len() - 1,
+                        include_str!("prepare/prepare_second_none.wgsl"),
+                    ),
+                    (_, true, depth) => {
+                        let input = match depth {
+                            DepthBinding::Depth => include_str!("prepare/second_input_depth.wgsl"),
+                            DepthBinding::Float => include_str!("prepare/second_input_float.wgsl"),
+                        };
+                        let at = v.len() - 1;
+                        v.splice(at..at, [input, include_str!("prepare/prepare_second.wgsl")]);
+                    }
                 }
                 v
             }
-            Pass::AoFull { estimator, bent } => sphere_chord(estimator)
+            Pass::AoFull {
+                estimator,
+                bent,
+                second_layer,
+            } => sphere_chord(estimator)
                 .into_iter()
+                .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
                     STORE_AO_FULL,
@@ -465,8 +536,10 @@ impl Pass {
                 merge,
                 estimator,
                 bent,
+                second_layer,
             } => sphere_chord(estimator)
                 .into_iter()
+                .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
                     if merge {
@@ -686,7 +759,9 @@ impl Pass {
             | Pass::LightsMerge { .. }
             | Pass::SsdoBounce { .. }
             | Pass::SsdoCombine { .. } => vec![],
-            Pass::AoFull { estimator: e, bent } => [
+            Pass::AoFull {
+                estimator: e, bent, ..
+            } => [
                 &estimator[..],
                 &own(e)[..],
                 &[skip_band],
@@ -741,8 +816,25 @@ fn ao_bent(bent: bool) -> &'static str {
 }
 
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
-/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO, bitmask).
-fn ao_label(e: Estimator, kind: usize, bent: bool) -> &'static str {
+/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO, bitmask);
+/// `second`: reading a second depth layer (the bitmask).
+fn ao_label(e: Estimator, kind: usize, bent: bool, second: bool) -> &'static str {
+    if second {
+        let names = if bent {
+            [
+                "bitmask_second_bent",
+                "bitmask_second_bent_layers_merge",
+                "bitmask_second_bent_layers",
+            ]
+        } else {
+            [
+                "bitmask_second",
+                "bitmask_second_layers_merge",
+                "bitmask_second_layers",
+            ]
+        };
+        return names[kind];
+    }
     if bent {
         let names = match e {
             Estimator::Hbao => ["hbao_bent", "hbao_bent_layers_merge", "hbao_bent_layers"],

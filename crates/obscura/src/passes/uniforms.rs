@@ -473,6 +473,7 @@ mod tests {
                 pyramid: crate::PyramidBuild::ALL[pick(3)],
                 history: [0, 1, 2, 16, 300][pick(5)],
                 bent_normals: pick(2) == 0,
+                second_layer: pick(4) == 0,
             };
             // Caller normals: none, view space, or world space with a rotation whose
             // entries may be awkward too.

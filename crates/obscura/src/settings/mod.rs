@@ -472,6 +472,15 @@ pub struct AoOptions {
     /// the box/tent filters (with them, at the working resolution). GTAO, HBAO and the bitmask
     /// ([`Estimator::has_bent_normals`]). Default `false`.
     pub bent_normals: bool,
+    /// A second depth layer from the renderer ([`crate::AoInput::second_layer`]): the
+    /// nearest surface behind each pixel's first one, peeled at the thickness prior behind
+    /// it (depth peeling with a minimum separation, Mara, McGuire, Nowrouzezahrai & Luebke
+    /// 2016, "Deep G-Buffers"). The bitmask estimator reads it where the first layer hides
+    /// it, each layer a solid [`AoParams::thickness`] deep, so what stands behind a thin
+    /// foreground object occludes too (docs/thickness.md). Every frame must then give one.
+    /// [`Estimator::Bitmask`] at [`Resolution::Full`] only (any layout, denoiser, history,
+    /// bent normals). Default `false`.
+    pub second_layer: bool,
 }
 
 /// The default [`AoOptions::march_exponent`], chosen over all shared views (docs/thickness.md).
@@ -496,6 +505,7 @@ impl Default for AoOptions {
             pyramid: PyramidBuild::Auto,
             history: 0,
             bent_normals: false,
+            second_layer: false,
         }
     }
 }
@@ -570,6 +580,17 @@ impl AoOptions {
             "bent_normals",
             format!("true with estimator {}", self.estimator.name()),
             "false unless the estimator is gtao",
+        )?;
+        check(
+            !self.second_layer
+                || (self.estimator == Estimator::Bitmask && self.resolution == Resolution::Full),
+            "second_layer",
+            format!(
+                "true with estimator {} at resolution {}",
+                self.estimator.name(),
+                self.resolution.name()
+            ),
+            "false unless the estimator is bitmask at full resolution",
         )?;
         if self.resolution == Resolution::Scaled {
             let e = self.estimator;

@@ -22,6 +22,7 @@ pub fn linear_input(view: &wgpu::TextureView, projection: Projection) -> AoInput
         normals: None,
         viewport: None,
         guard_band: 0,
+        second_layer: None,
         output: None,
     }
 }

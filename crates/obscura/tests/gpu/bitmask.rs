@@ -1,7 +1,8 @@
 //! The visibility-bitmask estimator (src/passes/estimators/bitmask.wgsl): its GPU pass
 //! against its CPU mirror for finite and infinite thickness and both march spacings, its
 //! agreement with GTAO when surfaces are infinitely thick, and what a thin prior changes
-//! behind a thin occluder. One device per binary.
+//! behind a thin occluder; the second depth layer against its mirror, and its input
+//! checks. One device per binary.
 
 use crate::{
     all_variants, assert_matches_mirror, lock, persp, run_ao, test_projections, test_scene, H, W,
@@ -170,4 +171,180 @@ fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
         t_thin > 0.99 && t_thick > 0.99,
         "the strip's top is open: {t_thin}, {t_thick}"
     );
+}
+
+/// The bitmask with a second depth layer ([`AoOptions::second_layer`]): the AO of `raw`
+/// (linear view depth) with `second` behind it, the prepare pass's copy of the second
+/// layer, and the frame.
+fn run_second_layer(
+    raw: &[f32],
+    second: &[f32],
+    projection: Projection,
+    options: AoOptions,
+    params: &AoParams,
+) -> (Vec<f32>, Vec<f32>, obscura::uniforms::FrameUniforms) {
+    let c = crate::ctx();
+    let depth = crate::upload_r32(raw, W, H);
+    let back = crate::upload_r32(second, W, H);
+    let (depth_view, back_view) = (
+        depth.create_view(&Default::default()),
+        back.create_view(&Default::default()),
+    );
+    let mut ao = obscura::Ao::new(&c.device, options).unwrap();
+    let input = obscura::AoInput {
+        depth: &depth_view,
+        convention: DepthConvention::LinearView,
+        projection,
+        normals: None,
+        viewport: None,
+        guard_band: 0,
+        second_layer: Some(&back_view),
+        output: None,
+    };
+    let frame = ao.validate(&input, params).unwrap();
+    c.run(|enc| ao.record(&c.device, &c.queue, enc, &input, params))
+        .unwrap();
+    let copied = c.read_f32(ao.second_layer().unwrap()).unwrap();
+    (c.read_f32(ao.output().unwrap()).unwrap(), copied, frame)
+}
+
+/// The test scene's second layer: behind the left 60% of the image a surface `gap` behind
+/// the first (as a peel at the prior finds the far side of a thin object), none elsewhere
+/// (0), and a few pixels whose "second layer" lies in front of the first, which the
+/// estimator must ignore.
+fn second_layer_of(raw: &[f32], gap: f32) -> Vec<f32> {
+    raw.iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            let x = i as u32 % W;
+            if d <= 0.0 || x >= W * 3 / 5 {
+                0.0
+            } else if i % 97 == 0 {
+                0.5 * d
+            } else {
+                d + gap
+            }
+        })
+        .collect()
+}
+
+/// In every full-resolution layout, perspective and orthographic, the GPU's bitmask with a
+/// second layer matches its CPU mirror (`reference::ao_second_layer`, on the GPU's own
+/// prepared buffer; tolerance as `assert_matches_mirror`), and the prepare pass copies the
+/// second layer exactly (linear input). A second layer only adds solids, so without
+/// denoising the AO never rises (to 1e-6) and falls somewhere by more than 0.05.
+#[test]
+fn second_layer_matches_its_mirror_and_only_darkens() {
+    let _g = lock();
+    let params = AoParams {
+        radius: 1.5,
+        thickness: 0.2,
+        ..Default::default()
+    };
+    for projection in test_projections() {
+        let raw = test_scene(&projection, W, H);
+        let second = second_layer_of(&raw, 0.5);
+        let prepared = run_linear(
+            &raw,
+            (W, H),
+            projection,
+            bitmask(AoMode::Randomized),
+            &params,
+        )
+        .prepared;
+        for options in all_variants()
+            .into_iter()
+            .filter(|o| o.estimator == Estimator::Bitmask)
+        {
+            let with = AoOptions {
+                second_layer: true,
+                ..options
+            };
+            let what = format!("{projection:?} {with:?}");
+            let (ao, copied, frame) = run_second_layer(&raw, &second, projection, with, &params);
+            let expected: Vec<f32> = second.iter().map(|&d| d.max(0.0)).collect();
+            assert_eq!(copied, expected, "{what}: the prepared second layer");
+            let cpu = reference::ao_second_layer(&frame, &with, &prepared, &copied);
+            assert_matches_mirror(&ao, &cpu, &what);
+            let one = run_linear(&raw, (W, H), projection, options, &params).ao;
+            let rises = ao
+                .iter()
+                .zip(&one)
+                .filter(|(a, b)| **a > **b + 1e-6)
+                .count();
+            let most = ao.iter().zip(&one).map(|(a, b)| b - a).fold(0.0, f32::max);
+            assert!(
+                rises == 0 && most > 0.05,
+                "{what}: {rises} pixels rise, largest fall {most}"
+            );
+        }
+    }
+}
+
+/// The second layer is checked like the other inputs: required by options that ask for
+/// one, refused by options that do not, and of the depth's format and size.
+#[test]
+fn second_layer_inputs_are_checked() {
+    let _g = lock();
+    let c = crate::ctx();
+    let projection = persp(W, H);
+    let raw = test_scene(&projection, W, H);
+    let depth = crate::upload_r32(&raw, W, H);
+    let small = crate::upload_r32(&raw[..(W * H / 2) as usize], W, H / 2);
+    let views = [&depth, &small].map(|t| t.create_view(&Default::default()));
+    let input = |second| obscura::AoInput {
+        depth: &views[0],
+        convention: DepthConvention::LinearView,
+        projection,
+        normals: None,
+        viewport: None,
+        guard_band: 0,
+        second_layer: second,
+        output: None,
+    };
+    let params = AoParams::default();
+    let with = AoOptions {
+        second_layer: true,
+        ..bitmask(AoMode::Deinterleaved2)
+    };
+    let mut two = obscura::Ao::new(&c.device, with).unwrap();
+    let one = obscura::Ao::new(&c.device, bitmask(AoMode::Deinterleaved2)).unwrap();
+    for (ao, second, why) in [
+        (&two, None, "missing"),
+        (&two, Some(&views[1]), "the wrong size"),
+        (&one, Some(&views[0]), "not asked for"),
+    ] {
+        let err = ao.validate(&input(second), &params).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                obscura::Error::InvalidTexture {
+                    what: "second layer",
+                    ..
+                }
+            ),
+            "{why}: {err}"
+        );
+    }
+    c.run(|enc| two.record(&c.device, &c.queue, enc, &input(Some(&views[0])), &params))
+        .unwrap();
+    for o in [
+        AoOptions {
+            second_layer: true,
+            ..AoOptions::default()
+        },
+        AoOptions {
+            second_layer: true,
+            resolution: obscura::Resolution::Half,
+            ..bitmask(AoMode::Randomized)
+        },
+    ] {
+        assert!(matches!(
+            obscura::Ao::new(&c.device, o),
+            Err(obscura::Error::InvalidSetting {
+                field: "second_layer",
+                ..
+            })
+        ));
+    }
 }

@@ -54,6 +54,7 @@ fn guarded_input<'a>(view: &'a wgpu::TextureView, p: Projection, g: u32) -> AoIn
             height: H,
         }),
         guard_band: g,
+        second_layer: None,
         ..super::linear_input(view, p)
     }
 }

@@ -106,6 +106,7 @@ fn run_ao(
         normals: None,
         viewport,
         guard_band: 0,
+        second_layer: None,
         output: None,
     };
     let frame = ao.validate(&input, params).unwrap();
@@ -652,6 +653,7 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
             lattice: 1,
             pyramid: &[],
             moments: &[],
+            second: &[],
         };
         (0..H as i32)
             .flat_map(|y| (0..W as i32).map(move |x| [x, y]))
@@ -3240,6 +3242,7 @@ fn msaa_depth_is_resolved_once_per_size_and_float_msaa_is_refused() {
         projection: persp(W, H),
         normals: None,
         viewport: None,
+        second_layer: None,
         guard_band: 0,
         output: None,
     };

@@ -28,6 +28,7 @@ fn frame_uniforms_layout_matches_wgsl() {
     let module = parse(Pass::AoFull {
         estimator: obscura::Estimator::Hbao,
         bent: false,
+        second_layer: false,
     });
     let (members, span) = module
         .types

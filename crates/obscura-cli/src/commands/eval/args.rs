@@ -132,6 +132,14 @@ pub struct EvalArgs {
     /// The truth and the pictures stay the view's. Clean single-sampled depth only.
     #[arg(long, value_delimiter = ',', default_value = "0")]
     pub guard_bands: Vec<u32>,
+    /// Also run each full-resolution bitmask variant with a finite --thickness with a
+    /// second depth layer (`AoOptions::second_layer`), peeled from the view's raster at its
+    /// prior (times the radius) behind the first (obscura-scene's `GBufferRenderer::peel`),
+    /// labelled "L2", beside its one-layer twin; the bitmask's screen-space references
+    /// likewise. The peel's own time is printed apart (a renderer's cost, not the AO's).
+    /// Clean single-sampled depth and single frames.
+    #[arg(long)]
+    pub second_layer: bool,
     /// Also score the bitmask estimator's screen-space limit with renderer layers,
     /// computed on the CPU from ray-traced layers (obscura-eval's `layers`): one layer
     /// infinitely thick, with the thickness prior (the first --thickness), with back-face
@@ -380,6 +388,12 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     }
     if a.guard_bands.iter().any(|&g| g > 0) && (a.msaa || a.sensor != SensorArg::None) {
         bail!("--guard-bands evaluates clean single-sampled depth (not with --msaa or --sensor)");
+    }
+    if a.second_layer && (a.msaa || a.sensor != SensorArg::None || temporal_run) {
+        bail!(
+            "--second-layer evaluates single frames of clean single-sampled depth (not with \
+             --msaa, --sensor or --frames above 1)"
+        );
     }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
         bail!(

@@ -108,8 +108,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
     }
     // One screen-space reference per estimator and guard band, and per thickness prior
-    // for the bitmask.
-    let mut screen_aos: Vec<(Estimator, f32, u32, Ao)> = Vec::new();
+    // for the bitmask (and with a second layer, for a finite prior with --second-layer).
+    let mut screen_aos: Vec<(Estimator, f32, u32, bool, Ao)> = Vec::new();
     if !a.no_screen_reference {
         for &e in &estimators {
             let priors = match e {
@@ -117,9 +117,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 _ => vec![obscura::DEFAULT_THICKNESS],
             };
             for t in priors {
+                let layered = a.second_layer && e == Estimator::Bitmask && t.is_finite();
                 for guard in a.guards() {
-                    let ao = Ao::new(&ctx.device, AoOptions::screen_reference(e))?;
-                    screen_aos.push((e, t, guard, ao));
+                    for second_layer in [false, true].into_iter().take(1 + layered as usize) {
+                        let o = AoOptions {
+                            second_layer,
+                            ..AoOptions::screen_reference(e)
+                        };
+                        screen_aos.push((e, t, guard, second_layer, Ao::new(&ctx.device, o)?));
+                    }
                 }
             }
         }
@@ -209,6 +215,27 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let banded = (widest > 0)
             .then(|| raster.render_guarded(&ctx, &gpu_mesh, &cam, (w, h), widest))
             .transpose()?;
+        // With --second-layer, a second layer peeled from the raster the variants read at
+        // each finite prior (a renderer's pass, timed apart: the median of 5 peels).
+        let mut peels: Vec<(f32, obscura_scene::DepthLayer)> = Vec::new();
+        if a.second_layer {
+            let layered = banded.as_ref().unwrap_or(&g);
+            for t in a.priors().into_iter().filter(|t| t.is_finite()) {
+                let mut ms = Vec::new();
+                for _ in 0..5 {
+                    let t0 = Instant::now();
+                    let layer = raster.peel(&ctx, &gpu_mesh, &cam, layered, t * radius)?;
+                    ms.push(t0.elapsed().as_secs_f64() * 1e3);
+                    peels.retain(|p| p.0 != t);
+                    peels.push((t, layer));
+                }
+                eprintln!(
+                    "  second layer peeled at {} (median of 5, with its wait): {} ms",
+                    thickness_label(t),
+                    fmt_ms(median(ms))
+                );
+            }
+        }
         let noisy = match a.sensor {
             SensorArg::None => None,
             SensorArg::Kinect => Some(sensor::Sensor::Kinect),
@@ -266,11 +293,21 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             },
             None => input,
         };
+        // ... with the second layer peeled at `thickness` when `second`.
+        let layered = |guard: u32, thickness: f32, second: bool| AoInput {
+            second_layer: peels
+                .iter()
+                .find(|p| second && p.0 == thickness)
+                .map(|p| &p.1.view),
+            ..guarded(guard)
+        };
+        // Variant i's input.
+        let input_of = |i: usize| layered(guard_of[i], thickness_of[i], variants[i].1.second_layer);
         let mut times = vec![Vec::new(); aos.len()];
         let timing = Timing::best_for(&ctx);
         for round in 0..=a.runs {
             for (i, ao) in aos.iter_mut().enumerate() {
-                let ms = frame_ms(&ctx, ao, &guarded(guard_of[i]), &of_variant(i), timing)?;
+                let ms = frame_ms(&ctx, ao, &input_of(i), &of_variant(i), timing)?;
                 if round > 0 {
                     times[i].push(ms);
                 }
@@ -377,41 +414,49 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         let mut screen = Vec::new();
         let several = a.priors().len() > 1;
-        // An estimator's name in labels: the bitmask's with its prior when several are run.
-        // ... and with its guard band when some band is above 0.
-        let named = |e: Estimator, thickness: f32, guard: u32| {
+        // An estimator's name in labels: the bitmask's with its prior when several are run,
+        // and "L2" with a second layer; with its guard band when some band is above 0.
+        let named = |e: Estimator, thickness: f32, guard: u32, second: bool| {
             let mut name = match e {
                 Estimator::Bitmask if several => {
                     format!("bitmask {}", thickness_label(thickness))
                 }
                 e => e.name().to_string(),
             };
+            if second {
+                name = format!("{name} L2");
+            }
             if a.guard_labels() {
                 name = format!("{name} g{guard}");
             }
             name
         };
-        for (e, thickness, guard, ao) in screen_aos.iter_mut() {
+        for (e, thickness, guard, second, ao) in screen_aos.iter_mut() {
             let t = Instant::now();
             let p = AoParams {
                 thickness: *thickness,
                 ..params
             };
-            let input = guarded(*guard);
+            let input = layered(*guard, *thickness, *second);
             ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
             let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
             eprintln!(
                 "  {} screen-space reference: {:.1} s",
-                named(*e, *thickness, *guard),
+                named(*e, *thickness, *guard, *second),
                 t.elapsed().as_secs_f64()
             );
-            screen.push((*e, *thickness, *guard, out));
+            screen.push((*e, *thickness, *guard, *second, out));
         }
-        let screen_of = |e: Estimator, thickness: f32, guard: u32| {
+        let screen_of = |e: Estimator, thickness: f32, guard: u32, second: bool| {
             screen
                 .iter()
-                .find(|s| s.0 == e && (e != Estimator::Bitmask || s.1 == thickness) && s.2 == guard)
-                .map(|s| &s.3)
+                .find(|s| {
+                    s.0 == e
+                        && (e != Estimator::Bitmask || s.1 == thickness)
+                        && s.2 == guard
+                        && s.3 == second
+                })
+                .map(|s| &s.4)
         };
         let white = vec![1.0f32; (w * h) as usize];
         // (label, estimator, mode, image, time, options)
@@ -431,9 +476,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             None,
             None,
         )];
-        for (e, thickness, guard, img) in &screen {
+        for (e, thickness, guard, second, img) in &screen {
             results.push((
-                format!("{} screen-space reference", named(*e, *thickness, *guard)),
+                format!(
+                    "{} screen-space reference",
+                    named(*e, *thickness, *guard, *second)
+                ),
                 e.name().into(),
                 "screen-reference".into(),
                 img.clone(),
@@ -529,6 +577,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         for (_, (label, o)) in variants.iter().enumerate().filter(|(i, (_, o))| {
             a.bent_normals
                 && guard_of[*i] == 0
+                && !o.second_layer
                 && o.estimator.has_bent_normals()
                 && (o.resolution == obscura::Resolution::Full || !o.denoise.downsamples())
                 && o.resolution != obscura::Resolution::Scaled
@@ -589,7 +638,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             });
             let screen = ms
                 .and(Estimator::ALL.into_iter().find(|e| e.name() == estimator))
-                .and_then(|e| screen_of(e, thickness, guard));
+                .and_then(|e| {
+                    let second = options.is_some_and(|o| o.second_layer);
+                    screen_of(e, thickness, guard, second)
+                });
             rows.push(Row {
                 view: job.name.clone(),
                 variant: name.clone(),

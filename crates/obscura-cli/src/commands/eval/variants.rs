@@ -1,6 +1,6 @@
 //! The variants one `eval` run compares: every estimator × layout × sample choice ×
 //! resolution (downsample rule, upsampler) × denoiser, the continuous scales, and each
-//! `--frames` count and guard band.
+//! `--frames` count and guard band, and the bitmask's with a second depth layer.
 
 use super::args::EvalArgs;
 use crate::options::PresetArg;
@@ -184,6 +184,27 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     let mut frames_of: Vec<u32> = Vec::new();
     let mut thickness_of: Vec<f32> = Vec::new();
     let mut guard_of: Vec<u32> = Vec::new();
+    // Each full-resolution bitmask variant with a finite prior, with a second layer too.
+    if a.second_layer {
+        for (label, o, scale, thickness) in std::mem::take(&mut single) {
+            let layered = o.estimator == Estimator::Bitmask
+                && o.resolution == Resolution::Full
+                && thickness.is_finite();
+            single.push((label.clone(), o, scale, thickness));
+            if layered {
+                let o = AoOptions {
+                    second_layer: true,
+                    ..o
+                };
+                single.push((format!("{label} L2"), o, scale, thickness));
+            }
+        }
+        if !single.iter().any(|s| s.1.second_layer) {
+            bail!(
+                "--second-layer needs a full-resolution bitmask variant with a finite --thickness"
+            );
+        }
+    }
     for &f in &counts {
         for &guard in &a.guards() {
             for (label, o, scale, thickness) in &single {

@@ -117,6 +117,15 @@ pub struct RenderArgs {
         conflicts_with_all = ["depth", "msaa", "orbit", "ssdo", "depth_out", "normals_out", "bent_normals_out"]
     )]
     pub guard_band: u32,
+    /// Peel a second depth layer (the nearest front face at least --thickness × the radius
+    /// behind the first) and let the bitmask estimator read it where the first layer hides
+    /// it (`AoOptions::second_layer`): what stands behind a thin foreground object then
+    /// occludes too. Needs `--estimator bitmask` at full resolution and a finite --thickness.
+    #[arg(
+        long,
+        conflicts_with_all = ["depth", "msaa", "orbit", "ssdo"]
+    )]
+    pub second_layer: bool,
     /// A captured depth map instead of a scene: 16-bit PNG or uint16 .npy (units set by the
     /// intrinsics' depth_scale, default millimetres), or float EXR / float16/32/64 .npy (scene
     /// units already: depth_scale is not applied), C or Fortran order. 0, NaN and infinite
@@ -326,6 +335,7 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
         bent_normals: a.bent_normals_out.is_some()
             || (a.ssdo.is_some() && Estimator::from(a.quality.estimator).has_bent_normals()),
         march_exponent: a.march_exponent,
+        second_layer: a.second_layer,
         ..a.quality.samples.options(a.quality.estimator.into())
     })
 }

@@ -376,6 +376,7 @@ pub fn run(a: &RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
             .map(|v| (v, obscura::NormalEncoding::ViewSigned)),
         viewport: None,
         guard_band: 0,
+        second_layer: None,
         output: None,
     };
     ao.validate(&input, &params)?;

@@ -138,6 +138,24 @@ pub fn run(a: &RenderArgs) -> Result<()> {
 
     let options = options(a);
     let params = params(a, radius);
+    // The second layer, peeled at the thickness prior behind the first.
+    let second = match (a.second_layer, &gbuffer) {
+        (true, Some(g)) => {
+            let t = Instant::now();
+            let separation = params.thickness * radius;
+            let layer = raster.peel(&ctx, &gpu_mesh, &cam, g, separation)?;
+            eprintln!(
+                "second layer: peeled {separation:.3} scene units behind the first in {:.1} ms (includes the wait)",
+                t.elapsed().as_secs_f64() * 1e3
+            );
+            Some(layer)
+        }
+        _ => None,
+    };
+    let input = obscura::AoInput {
+        second_layer: second.as_ref().map(|l| &l.view),
+        ..input
+    };
     let mut ao = Ao::new(&ctx.device, options)?;
     let frame = ao.validate(&input, &params)?;
     eprintln!(

@@ -130,18 +130,25 @@ pub type Solids = [Option<(f32, f32)>; 2];
 /// sky); mirrors `estimate` in passes/estimators/bitmask.wgsl with BENT_NORMALS.
 pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
     let thickness = px.f.model[0];
-    let one_layer = |q: [i32; 2]| -> Solids {
-        let solid = px.depth_at(q).filter(|&sd| sd > 0.0).map(|sd| {
-            let back = if thickness > 0.0 {
-                sd + thickness
-            } else {
-                f32::INFINITY
-            };
-            (sd, back)
-        });
-        [solid, None]
+    let solid = |d: f32| {
+        let back = if thickness > 0.0 {
+            d + thickness
+        } else {
+            f32::INFINITY
+        };
+        (d, back)
     };
-    bitmask_pixel_solids(px, p, pattern, one_layer)
+    // The first layer, and the second where one lies behind it (bitmask.wgsl's `DEPTH_LAYERS`).
+    let solids = |q: [i32; 2]| -> Solids {
+        let Some(sd) = px.depth_at(q).filter(|&sd| sd > 0.0) else {
+            return [None, None];
+        };
+        let sd2 = (!px.second.is_empty())
+            .then(|| px.second[(q[1] * px.f.size[0] as i32 + q[0]) as usize])
+            .filter(|&sd2| sd2 > sd);
+        [Some(solid(sd)), sd2.map(solid)]
+    };
+    bitmask_pixel_solids(px, p, pattern, solids)
 }
 
 /// [`bitmask_pixel_bent`] with the solids each sample sees given by `solids(q)` instead of

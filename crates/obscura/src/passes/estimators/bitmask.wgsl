@@ -12,7 +12,9 @@
 // with infinite thickness the estimate is GTAO's up to the 1/32 quantisation. Sector
 // edges are rounded to the nearest bit, so the quantisation has no sign. Slice weights
 // and the final mapping are GTAO's; so is the bent normal, integrated over the clear
-// sectors (`bitmask_bent`). CPU mirror: passes/estimators/mod.rs, `bitmask_pixel`.
+// sectors (`bitmask_bent`). With a second depth layer (AoOptions::second_layer) a sample
+// is two solids, the second from the surface behind the first (second_layer.wgsl). CPU
+// mirror: passes/estimators/bitmask.rs, `bitmask_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
@@ -171,28 +173,40 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     continue;
                 }
                 let at = vec2<f32>(q) + 0.5;
-                let front = view_position(at, sd) - pos;
-                let r2 = dot(front, front) * frame.inv_radius2;
-                // Measured in the slice plane, as in gtao.wgsl.
-                let wf = front - axis * dot(front, axis);
-                if r2 >= 1.0 || dot(wf, wf) <= 0.0 {
-                    continue;
-                }
-                let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
-                let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
-                // Infinitely thick: the solid reaches the hemisphere's edge on this side.
-                var ub = select(0.0, total, sgn > 0.0);
-                if thickness > 0.0 {
-                    let back = view_position(at, sd + thickness) - pos;
-                    let wb = back - axis * dot(back, axis);
-                    if dot(wb, wb) > 0.0 {
-                        let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
-                        ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                // The solids along the sample's view ray: the first layer's, and the second
+                // layer's where one lies behind it (second_layer*.wgsl; mirror: `solids`).
+                let sd2 = sample_second(q);
+                for (var k = 0u; k < DEPTH_LAYERS; k++) {
+                    var fd = sd;
+                    if k == 1u {
+                        if !(sd2 > sd) {
+                            break;
+                        }
+                        fd = sd2;
                     }
+                    let front = view_position(at, fd) - pos;
+                    let r2 = dot(front, front) * frame.inv_radius2;
+                    // Measured in the slice plane, as in gtao.wgsl.
+                    let wf = front - axis * dot(front, axis);
+                    if r2 >= 1.0 || dot(wf, wf) <= 0.0 {
+                        continue;
+                    }
+                    let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
+                    let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
+                    // Infinitely thick: the solid reaches the hemisphere's edge on this side.
+                    var ub = select(0.0, total, sgn > 0.0);
+                    if thickness > 0.0 {
+                        let back = view_position(at, fd + thickness) - pos;
+                        let wb = back - axis * dot(back, axis);
+                        if dot(wb, wb) > 0.0 {
+                            let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
+                            ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                        }
+                    }
+                    let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));
+                    let b = u32(clamp(round(max(uf, ub) * to_bits), 0.0, SECTORS));
+                    occluded |= sector_bits(a, b);
                 }
-                let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));
-                let b = u32(clamp(round(max(uf, ub) * to_bits), 0.0, SECTORS));
-                occluded |= sector_bits(a, b);
             }
         }
         let clear = 1.0 - f32(countOneBits(occluded)) / SECTORS;

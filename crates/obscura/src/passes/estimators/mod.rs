@@ -27,6 +27,9 @@ pub struct Pixels<'a> {
     pub pyramid: &'a [PyramidLevel],
     /// The depth moments pyramid ([`moments`]) for VO's area integral; may be empty.
     pub moments: &'a [PyramidLevel],
+    /// The second depth layer's linear depth (viewport-sized, 0 = none) for the bitmask
+    /// ([`crate::AoOptions::second_layer`]); empty without one.
+    pub second: &'a [f32],
 }
 
 /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction on a
@@ -509,6 +512,24 @@ pub fn ao(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[Vec4]) -> V
     ao_over(f, options, prepared, f.size, prepared)
 }
 
+/// [`ao`] with the bitmask reading a second depth layer: `second`, its linear depth per
+/// pixel (0 = none), as the prepare pass writes it ([`crate::AoOptions::second_layer`]).
+pub fn ao_second_layer(
+    f: &FrameUniforms,
+    options: &crate::AoOptions,
+    prepared: &[Vec4],
+    second: &[f32],
+) -> Vec<f32> {
+    over_pixels(
+        f,
+        options,
+        prepared,
+        (f.size, prepared),
+        second,
+        bitmask_pixel,
+    )
+}
+
 /// [`ao`] on a working grid below full resolution (`f` the working frame, `prepared` its
 /// level), with the depth pyramid and moments built, as on the GPU, from the
 /// full-resolution buffer `full` (`full_size` pixels; only `.x`, linear depth, is read).
@@ -523,8 +544,8 @@ pub fn ao_over(
         f,
         options,
         prepared,
-        full_size,
-        full,
+        (full_size, full),
+        &[],
         |px, q, pattern| match options.estimator {
             crate::Estimator::Hbao => hbao_pixel(px, q, pattern),
             crate::Estimator::Gtao => gtao_pixel(px, q, pattern),
@@ -545,8 +566,8 @@ pub fn bent_normals(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[V
         f,
         options,
         prepared,
-        f.size,
-        prepared,
+        (f.size, prepared),
+        &[],
         |px, q, pattern| match options.estimator {
             crate::Estimator::Hbao => hbao_pixel_bent(px, q, pattern).1,
             crate::Estimator::Bitmask => bitmask_pixel_bent(px, q, pattern).1,
@@ -556,13 +577,13 @@ pub fn bent_normals(f: &FrameUniforms, options: &crate::AoOptions, prepared: &[V
 }
 
 /// `pixel` at every pixel of `f`'s grid with the pattern and sampling lattice of the mode
-/// (what [`ao_over`] runs the estimator with).
+/// (what [`ao_over`] runs the estimator with); `second`: [`Pixels::second`].
 fn over_pixels<T>(
     f: &FrameUniforms,
     options: &crate::AoOptions,
     prepared: &[Vec4],
-    full_size: [u32; 2],
-    full: &[Vec4],
+    (full_size, full): ([u32; 2], &[Vec4]),
+    second: &[f32],
     pixel: impl Fn(&Pixels, [i32; 2], [f32; 4]) -> T,
 ) -> Vec<T> {
     let n = options.mode.split();
@@ -590,6 +611,7 @@ fn over_pixels<T>(
         lattice,
         pyramid: &levels,
         moments: &moment_levels,
+        second,
     };
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..f.size[1] {

@@ -4,7 +4,8 @@
 // prepare_input.wgsl, a normals_*.wgsl (`view_normal`: reconstructed or given), then
 // surface_plain.wgsl or normals_fit.wgsl (`surface`: vec4(depth, normal)) and a
 // prepare_store_*.wgsl (declares @binding(3) and `store_prepared`: full resolution, or
-// straight into deinterleaved layers). Separate fragments rather than a branch: an untaken
+// straight into deinterleaved layers), then prepare_second*.wgsl (`store_second`: the
+// second depth layer, or nothing). Separate fragments rather than a branch: an untaken
 // uniform branch still cost lavapipe ~1/3 of this pass (BENCHMARKS.md).
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE, 1)
@@ -13,6 +14,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(pixel >= frame.size) {
         return;
     }
+    store_second(pixel);
     let p = vec2<i32>(pixel);
     let d = linear_depth_at(p);
     if d <= 0.0 {

@@ -56,6 +56,7 @@ pub fn ssdo_bounce(
         lattice: 1,
         pyramid: &[],
         moments: &[],
+        second: &[],
     };
     let patterns = options.patterns();
     let (w, h) = (f.size[0] as i32, f.size[1] as i32);
