@@ -312,7 +312,9 @@ impl Framed {
 }
 
 /// AO of depth maps on one device: the passes compiled once and the input textures kept
-/// across maps of the same size, the loop a batch tool or the Python package runs.
+/// across maps of the same size, the loop a batch tool or the Python package runs. Native
+/// only (it blocks on the GPU; on the web, record an [`crate::Ao`] yourself).
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Debug)]
 pub struct Renderer {
     ao: crate::Ao,
@@ -322,6 +324,7 @@ pub struct Renderer {
 }
 
 /// `slot`'s texture refilled with `bytes`, or a new one where the size or format differs.
+#[cfg(not(target_arch = "wasm32"))]
 fn refill<'a>(
     slot: &'a mut Option<(wgpu::Texture, wgpu::TextureView)>,
     ctx: &crate::GpuContext,
@@ -343,6 +346,7 @@ fn refill<'a>(
     &slot.as_ref().expect("filled above").1
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 impl Renderer {
     /// Compiles the passes for `options` on `ctx`'s device.
     pub fn new(ctx: &crate::GpuContext, options: crate::AoOptions) -> Result<Self> {

@@ -7,7 +7,9 @@ use super::plan::Plan;
 use super::resources::SizedResources;
 use super::resources::{placeholder_normals, PrepareInputs, Resolve, Shared};
 use super::temporal::TemporalState;
-use super::timing::{time_passes, PassCall};
+#[cfg(not(target_arch = "wasm32"))]
+use super::timing::time_passes;
+use super::timing::PassCall;
 use super::validate::{depth_binding, validate};
 // The types of `Ao`'s signatures, also at this module's path (`obscura::ao::AoInput`).
 pub use super::{resources::ResourceCount, timing::Timing, validate::AoInput};
@@ -288,7 +290,8 @@ impl Ao {
     }
 
     /// Runs one frame and returns each pass's label and milliseconds, measured as `timing`
-    /// says. For benchmarks: it creates timing resources per call.
+    /// says. For benchmarks: it creates timing resources per call. Native only (it blocks).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn run_timed(
         &mut self,
         ctx: &crate::GpuContext,

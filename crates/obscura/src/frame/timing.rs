@@ -3,6 +3,7 @@
 //! dispatches (lavapipe), GPU timestamp queries elsewhere.
 
 use crate::gpu::pipeline::Compiled;
+#[cfg(not(target_arch = "wasm32"))]
 use crate::{Error, Result};
 
 /// How [`crate::Ao::run_timed`] measures each pass.
@@ -31,7 +32,8 @@ impl Timing {
 pub(crate) type PassCall<'a> = (&'a Compiled, wgpu::BindGroup, [u32; 3]);
 
 /// Runs `passes` and returns each pass's label and milliseconds, measured as `timing` says.
-/// Creates its query resources per call.
+/// Creates its query resources per call. Native only (it blocks).
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn time_passes(
     ctx: &crate::GpuContext,
     passes: &[PassCall<'_>],

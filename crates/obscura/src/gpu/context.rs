@@ -3,6 +3,10 @@
 //!
 //! Adapter choice: a hardware adapter is preferred; Mesa's lavapipe (a CPU Vulkan driver)
 //! is the fallback. `OBSCURA_ADAPTER=cpu|gpu|<name substring>` forces a choice.
+//!
+//! On the web (wasm32, WebGPU) nothing may block: [`GpuContext::request`],
+//! [`GpuContext::run_async`] and [`GpuContext::read_f32_async`] are the asynchronous
+//! forms, and the blocking ones are native only (docs/guide/web.md).
 
 use crate::{Error, Result};
 use std::sync::{Arc, Mutex};
@@ -68,8 +72,11 @@ impl AdapterChoice {
 }
 
 /// Native compute APIs only: the GL backend lacks storage-texture formats obscura needs
-/// and, headless, probes for a display server.
+/// and, headless, probes for a display server. In a browser: WebGPU.
+#[cfg(not(target_arch = "wasm32"))]
 const BACKENDS: wgpu::Backends = wgpu::Backends::PRIMARY;
+#[cfg(target_arch = "wasm32")]
+const BACKENDS: wgpu::Backends = wgpu::Backends::BROWSER_WEBGPU;
 
 /// Preference rank of an adapter: lower is better.
 fn rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
@@ -109,24 +116,54 @@ pub struct GpuContext {
 
 impl GpuContext {
     /// Creates a context on the adapter chosen by [`AdapterChoice::from_env`].
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new() -> Result<Self> {
         Self::with_choice(&AdapterChoice::from_env())
     }
 
     /// Creates a context on the best adapter that `choice` accepts, with every limit the
     /// adapter offers.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn with_choice(choice: &AdapterChoice) -> Result<Self> {
         Self::with_limits(choice, None)
     }
 
     /// As [`GpuContext::with_choice`], requesting `limits` instead of the adapter's own
     /// (`Some(wgpu::Limits::default())`: WebGPU's default limits, what a browser gives).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn with_limits(choice: &AdapterChoice, limits: Option<wgpu::Limits>) -> Result<Self> {
+        pollster::block_on(Self::request(choice, limits))
+    }
+
+    /// The adapters `instance` offers: every native one, or the browser's WebGPU adapter.
+    #[cfg(not(target_arch = "wasm32"))]
+    async fn adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
+        instance.enumerate_adapters(BACKENDS).await
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    async fn adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        };
+        instance
+            .request_adapter(&options)
+            .await
+            .into_iter()
+            .collect()
+    }
+
+    /// [`GpuContext::with_limits`] without blocking: the constructor on the web, where the
+    /// adapter is the browser's WebGPU adapter (`choice` may still refuse it by kind or
+    /// name), and every error goes to the device's uncaptured-error handler
+    /// ([`GpuContext::take_errors`]) instead of a blocking error scope.
+    pub async fn request(choice: &AdapterChoice, limits: Option<wgpu::Limits>) -> Result<Self> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: BACKENDS,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
-        let adapters = pollster::block_on(instance.enumerate_adapters(BACKENDS));
+        let adapters = Self::adapters(&instance).await;
         let names: Vec<String> = adapters
             .iter()
             .map(|a| {
@@ -156,16 +193,18 @@ impl GpuContext {
         let info = adapter.get_info();
         // Only features that are useful and present: timestamps where the adapter has them.
         let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("obscura"),
-            required_features,
-            required_limits: limits.unwrap_or_else(|| adapter.limits()),
-            ..Default::default()
-        }))
-        .map_err(|e| Error::DeviceCreation {
-            adapter: info.name.clone(),
-            reason: e.to_string(),
-        })?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("obscura"),
+                required_features,
+                required_limits: limits.unwrap_or_else(|| adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| Error::DeviceCreation {
+                adapter: info.name.clone(),
+                reason: e.to_string(),
+            })?;
         let sink = Arc::new(Mutex::new(ErrorSink::default()));
         let s = sink.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -229,6 +268,7 @@ impl GpuContext {
     /// Runs `record` inside validation and out-of-memory error scopes, submits, waits for
     /// the GPU, and turns any wgpu error into [`Error::Gpu`], [`Error::OutOfMemory`] or
     /// [`Error::DeviceLost`].
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn run<T>(&self, record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>) -> Result<T> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -253,7 +293,35 @@ impl GpuContext {
         Ok(value)
     }
 
+    /// [`GpuContext::run`] without blocking: records inside the error scopes, submits, and
+    /// awaits the scopes (not the GPU work: a later [`GpuContext::read_f32_async`] waits
+    /// for it, as submissions finish in order).
+    pub async fn run_async<T>(
+        &self,
+        record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>,
+    ) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("obscura"),
+            });
+        let value = record(&mut encoder);
+        self.queue.submit([encoder.finish()]);
+        let v_err = validation.pop().await;
+        let o_err = oom.pop().await;
+        if let Some(e) = o_err.or(v_err) {
+            self.take_errors()?;
+            return Err(e.into());
+        }
+        let value = value?;
+        self.take_errors()?;
+        Ok(value)
+    }
+
     /// Blocks until submission `index` has finished.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn wait(&self, index: wgpu::SubmissionIndex) -> Result<()> {
         self.device
             .poll(wgpu::PollType::Wait {
@@ -266,12 +334,73 @@ impl GpuContext {
 
     /// Reads a whole 2D texture or texture array (mip 0, every layer, layer-major) back as
     /// tightly packed bytes.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_texture(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
         self.read_texture_mip(texture, 0)
     }
 
     /// As [`GpuContext::read_texture`], for mip level `mip`.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_texture_mip(&self, texture: &wgpu::Texture, mip: u32) -> Result<Vec<u8>> {
+        let copy = self.copy_out(texture, mip)?;
+        self.run(|enc| {
+            copy.record(enc, texture);
+            Ok(())
+        })?;
+        Ok(copy.unpad(&self.map_read(&copy.buffer)?))
+    }
+
+    /// [`GpuContext::read_texture`] without blocking (mip 0).
+    pub async fn read_texture_async(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+        let copy = self.copy_out(texture, 0)?;
+        self.run_async(|enc| {
+            copy.record(enc, texture);
+            Ok(())
+        })
+        .await?;
+        Ok(copy.unpad(&self.map_read_async(&copy.buffer).await?))
+    }
+
+    /// [`GpuContext::read_f32`] without blocking.
+    pub async fn read_f32_async(&self, texture: &wgpu::Texture) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(
+            &self.read_texture_async(texture).await?,
+        ))
+    }
+
+    /// [`GpuContext::map_read`] without blocking: resolves when the buffer is mapped (on
+    /// the web, once the browser has run the work before it; natively it must be polled).
+    pub async fn map_read_async(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+        let slice = buffer.slice(..);
+        let mapped = Signal::default();
+        let done = mapped.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| done.set(r));
+        mapped
+            .await
+            .ok_or_else(|| Error::Gpu("buffer mapping lost".into()))?
+            .map_err(|e| Error::Gpu(e.to_string()))?;
+        let data = slice
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .to_vec();
+        buffer.unmap();
+        Ok(data)
+    }
+
+    /// Resolves when the work submitted so far has finished (on the web; natively the
+    /// device must be polled for it to resolve).
+    pub async fn wait_async(&self) -> Result<()> {
+        let finished = Signal::default();
+        let done = finished.clone();
+        self.queue.on_submitted_work_done(move || done.set(()));
+        finished
+            .await
+            .ok_or_else(|| Error::Gpu("submitted-work callback lost".into()))?;
+        self.take_errors()
+    }
+
+    /// The read-back buffer of `texture`'s mip `mip` and how to copy into it.
+    fn copy_out(&self, texture: &wgpu::Texture, mip: u32) -> Result<CopyOut> {
         let format = texture.format();
         let bpp = format
             .block_copy_size(Some(wgpu::TextureAspect::All))
@@ -299,40 +428,18 @@ impl GpuContext {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        self.run(|enc| {
-            enc.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: mip,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: if format.is_depth_stencil_format() {
-                        wgpu::TextureAspect::DepthOnly
-                    } else {
-                        wgpu::TextureAspect::All
-                    },
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(padded),
-                        rows_per_image: Some(h),
-                    },
-                },
-                size,
-            );
-            Ok(())
-        })?;
-        let data = self.map_read(&buffer)?;
-        let mut out = Vec::with_capacity((row * rows) as usize);
-        for y in 0..rows as usize {
-            let start = y * padded as usize;
-            out.extend_from_slice(&data[start..start + row as usize]);
-        }
-        Ok(out)
+        Ok(CopyOut {
+            buffer,
+            mip,
+            size,
+            padded,
+            row,
+            rows,
+        })
     }
 
     /// Maps a `MAP_READ` buffer whose writes were submitted, and copies its contents out.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
         let slice = buffer.slice(..);
         let (tx, rx) = std::sync::mpsc::channel();
@@ -427,8 +534,110 @@ impl GpuContext {
     }
 
     /// Reads an `R32Float`/`Depth32Float` texture as `f32`s, or `Rgba32Float` as 4 per texel.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_f32(&self, texture: &wgpu::Texture) -> Result<Vec<f32>> {
         Ok(bytemuck::pod_collect_to_vec(&self.read_texture(texture)?))
+    }
+}
+
+/// A texture mip's copy into a read-back buffer, rows padded to wgpu's alignment.
+struct CopyOut {
+    buffer: wgpu::Buffer,
+    mip: u32,
+    size: wgpu::Extent3d,
+    padded: u32,
+    row: u32,
+    rows: u32,
+}
+
+impl CopyOut {
+    fn record(&self, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: self.mip,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: if texture.format().is_depth_stencil_format() {
+                    wgpu::TextureAspect::DepthOnly
+                } else {
+                    wgpu::TextureAspect::All
+                },
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.padded),
+                    rows_per_image: Some(self.size.height),
+                },
+            },
+            self.size,
+        );
+    }
+
+    /// The mapped bytes without the row padding.
+    fn unpad(&self, data: &[u8]) -> Vec<u8> {
+        let mut out = Vec::with_capacity((self.row * self.rows) as usize);
+        for y in 0..self.rows as usize {
+            let start = y * self.padded as usize;
+            out.extend_from_slice(&data[start..start + self.row as usize]);
+        }
+        out
+    }
+}
+
+/// A value a wgpu callback hands over, as a future: the callback fills it and wakes the
+/// task (`None`: the state was poisoned).
+struct Signal<T>(Arc<Mutex<SignalState<T>>>);
+
+struct SignalState<T> {
+    value: Option<T>,
+    waker: Option<std::task::Waker>,
+}
+
+impl<T> Default for Signal<T> {
+    fn default() -> Self {
+        Signal(Arc::new(Mutex::new(SignalState {
+            value: None,
+            waker: None,
+        })))
+    }
+}
+
+impl<T> Clone for Signal<T> {
+    fn clone(&self) -> Self {
+        Signal(self.0.clone())
+    }
+}
+
+impl<T> Signal<T> {
+    fn set(&self, v: T) {
+        if let Ok(mut s) = self.0.lock() {
+            s.value = Some(v);
+            if let Some(w) = s.waker.take() {
+                w.wake();
+            }
+        }
+    }
+}
+
+impl<T> std::future::Future for Signal<T> {
+    type Output = Option<T>;
+
+    fn poll(
+        self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<Option<T>> {
+        let Ok(mut s) = self.0.lock() else {
+            return std::task::Poll::Ready(None);
+        };
+        match s.value.take() {
+            Some(v) => std::task::Poll::Ready(Some(v)),
+            None => {
+                s.waker = Some(cx.waker().clone());
+                std::task::Poll::Pending
+            }
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::passes::bindings::layout_entries;
 use crate::passes::shader::Pass;
-use crate::{AoOptions, Error, Result};
+use crate::{AoOptions, Result};
 
 /// A compiled pass: pipeline and the layout of its bind group.
 #[derive(Debug)]
@@ -78,12 +78,30 @@ pub(crate) fn bind_group(
 
 /// Out-of-memory and validation error scopes around resource creation on the caller's
 /// device (never around per-frame recording), so failures come back as typed errors
-/// instead of reaching the device's uncaptured-error handler.
+/// instead of reaching the device's uncaptured-error handler. On the web a scope's result
+/// can only be awaited, and `Ao`'s calls are synchronous, so there no scope is pushed and
+/// errors reach the uncaptured-error handler ([`crate::GpuContext::take_errors`]).
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) struct ErrorScope {
     oom: wgpu::ErrorScopeGuard,
     validation: wgpu::ErrorScopeGuard,
 }
 
+#[cfg(target_arch = "wasm32")]
+pub(crate) struct ErrorScope;
+
+#[cfg(target_arch = "wasm32")]
+impl ErrorScope {
+    pub(crate) fn push(_: &wgpu::Device) -> Self {
+        ErrorScope
+    }
+
+    pub(crate) fn pop(self, _: &str) -> Result<()> {
+        Ok(())
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
 impl ErrorScope {
     pub(crate) fn push(device: &wgpu::Device) -> Self {
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -94,6 +112,7 @@ impl ErrorScope {
     pub(crate) fn pop(self, doing: &str) -> Result<()> {
         let v = pollster::block_on(self.validation.pop());
         let o = pollster::block_on(self.oom.pop());
+        use crate::Error;
         match o.or(v).map(Error::from) {
             None => Ok(()),
             Some(Error::OutOfMemory(e)) => Err(Error::OutOfMemory(format!("{doing}: {e}"))),

@@ -19,6 +19,7 @@ mod lights;
 mod shaders;
 mod ssdo;
 mod temporal;
+mod web_frame;
 mod webgpu_limits;
 use common::linear_input;
 

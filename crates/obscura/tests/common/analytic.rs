@@ -1,0 +1,40 @@
+//! The analytic scene of the browser tests (tests/web.rs) and of their native twin (the
+//! frame time in tests/gpu/web_frame.rs): a floor, a back wall and a sphere, ray-cast.
+
+/// The scene's vertical field of view, radians.
+pub const FOV_Y: f32 = 1.0;
+
+/// Linear view depth of a floor (y = −1), a back wall (z = −8) and a sphere resting on the
+/// floor in front of it, ray-cast through each pixel's centre; 0 where nothing is hit.
+pub fn scene(w: u32, h: u32) -> Vec<f32> {
+    let t = (0.5 * FOV_Y).tan();
+    let aspect = w as f32 / h as f32;
+    let (centre, r) = (glam::Vec3::new(0.4, -0.3, -4.0), 0.7f32);
+    let mut depth = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let ndc = (
+                2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
+                1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
+            );
+            // Direction with view z = −1, so the ray parameter is the linear depth.
+            let d = glam::Vec3::new(ndc.0 * t * aspect, ndc.1 * t, -1.0);
+            let mut best = f32::INFINITY;
+            if d.y < 0.0 {
+                best = best.min(-1.0 / d.y);
+            }
+            best = best.min(8.0);
+            // |s d − c|² = r²
+            let (a, b, c) = (d.dot(d), -2.0 * d.dot(centre), centre.dot(centre) - r * r);
+            let disc = b * b - 4.0 * a * c;
+            if disc >= 0.0 {
+                let s = (-b - disc.sqrt()) / (2.0 * a);
+                if s > 0.0 {
+                    best = best.min(s);
+                }
+            }
+            depth.push(if best.is_finite() { best } else { 0.0 });
+        }
+    }
+    depth
+}
