@@ -36,4 +36,5 @@ export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner
 export WASM_BINDGEN_TEST_TIMEOUT=${WASM_BINDGEN_TEST_TIMEOUT:-900}
 # The library and the browser tests lint clean on wasm32 too (CI lints the rest natively).
 cargo clippy --locked -p obscura --target wasm32-unknown-unknown --lib --test web -- -D warnings
+cargo clippy --locked -p obscura-web --target wasm32-unknown-unknown -- -D warnings
 cargo test --locked -p obscura --target wasm32-unknown-unknown --test web "$@"

@@ -306,6 +306,7 @@ impl GBufferRenderer {
     }
 
     /// Renders `mesh` from `camera` at `width` × `height`, waiting for completion.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn render(
         &self,
         ctx: &GpuContext,
@@ -319,9 +320,36 @@ impl GBufferRenderer {
 
     /// Renders `mesh` from `camera`'s `width` × `height` view and a guard band of `guard`
     /// pixels around it ([`Camera::widened`]), waiting for completion.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn render_guarded(
         &self,
         ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        size: (u32, u32),
+        guard: u32,
+    ) -> Result<GBuffer, SceneError> {
+        self.guarded_into((ctx, None), mesh, camera, size, guard)
+    }
+
+    /// [`Self::render_guarded`] recorded into `encoder` without waiting (the web's form;
+    /// the G-buffer is drawn once `encoder` is submitted). One camera at a time: the camera
+    /// uniform is written now, so two views recorded into one encoder share the last one.
+    pub fn record_guarded(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        size: (u32, u32),
+        guard: u32,
+    ) -> Result<GBuffer, SceneError> {
+        self.guarded_into((ctx, Some(encoder)), mesh, camera, size, guard)
+    }
+
+    fn guarded_into(
+        &self,
+        (ctx, encoder): (&GpuContext, Option<&mut wgpu::CommandEncoder>),
         mesh: &GpuMesh,
         camera: &Camera,
         (width, height): (u32, u32),
@@ -346,7 +374,7 @@ impl GBufferRenderer {
         let normals_view = normals.create_view(&Default::default());
         let albedo_view = albedo.create_view(&Default::default());
         self.draw(
-            ctx,
+            (ctx, encoder),
             mesh,
             (&self.pipeline, &self.camera_bind(ctx)),
             Some((&normals_view, &albedo_view)),
@@ -417,7 +445,7 @@ impl GBufferRenderer {
                 },
             ],
         });
-        self.draw(ctx, mesh, (&self.peel_pipeline, &bind), None, &view)?;
+        self.draw((ctx, None), mesh, (&self.peel_pipeline, &bind), None, &view)?;
         Ok(DepthLayer {
             texture: depth,
             view,
@@ -438,7 +466,13 @@ impl GBufferRenderer {
         let depth = target(ctx, width, height, DEPTH_FORMAT, MSAA_SAMPLES);
         let depth_view = depth.create_view(&Default::default());
         let bind = self.camera_bind(ctx);
-        self.draw(ctx, mesh, (&self.msaa_pipeline, &bind), None, &depth_view)?;
+        self.draw(
+            (ctx, None),
+            mesh,
+            (&self.msaa_pipeline, &bind),
+            None,
+            &depth_view,
+        )?;
         Ok(MsaaDepth {
             depth,
             depth_view,
@@ -483,9 +517,10 @@ impl GBufferRenderer {
     }
 
     /// Draws `mesh` with `pipeline` into the targets, waiting for completion.
+    /// Draws into `encoder`, or (natively, with `None`) submits and waits.
     fn draw(
         &self,
-        ctx: &GpuContext,
+        (ctx, encoder): (&GpuContext, Option<&mut wgpu::CommandEncoder>),
         mesh: &GpuMesh,
         (pipeline, bind): (&wgpu::RenderPipeline, &wgpu::BindGroup),
         colour_views: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
@@ -517,7 +552,7 @@ impl GBufferRenderer {
                 ]
             })
             .unwrap_or_default();
-        ctx.run(|enc| {
+        let record = |enc: &mut wgpu::CommandEncoder| {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("gbuffer"),
                 // The depth-only pipeline has no colour target at all (not a `None` one).
@@ -540,8 +575,23 @@ impl GBufferRenderer {
             pass.set_vertex_buffer(1, mesh.colours.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);
-            Ok(())
-        })?;
+        };
+        match encoder {
+            Some(enc) => record(enc),
+            #[cfg(not(target_arch = "wasm32"))]
+            None => ctx.run(|enc| {
+                record(enc);
+                Ok(())
+            })?,
+            #[cfg(target_arch = "wasm32")]
+            None => {
+                let _ = ctx;
+                return Err(obscura::Error::Gpu(
+                    "on the web, record into an encoder (GBufferRenderer::record_guarded)".into(),
+                )
+                .into());
+            }
+        }
         Ok(())
     }
 }
