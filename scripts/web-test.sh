@@ -38,3 +38,10 @@ export WASM_BINDGEN_TEST_TIMEOUT=${WASM_BINDGEN_TEST_TIMEOUT:-900}
 cargo clippy --locked -p obscura --target wasm32-unknown-unknown --lib --test web -- -D warnings
 cargo clippy --locked -p obscura-web --target wasm32-unknown-unknown -- -D warnings
 cargo test --locked -p obscura --target wasm32-unknown-unknown --test web "$@"
+# The built-in scene in the browser against the same view natively (obscura-scene's
+# tests/web.rs): the native AO first, on this machine's adapter (lavapipe in CI).
+mkdir -p target/web-parity
+NODEVICE_SELECT=1 cargo run --locked --quiet -p obscura-cli -- render --width 160 --height 100 \
+  --runs 1 --out target/web-parity/courtyard.npy
+export OBSCURA_WEB_NATIVE=$PWD/target/web-parity/courtyard.npy
+cargo test --locked -p obscura-scene --target wasm32-unknown-unknown --test web "$@"

@@ -176,7 +176,13 @@ impl GpuContext {
             .filter(|a| choice.accepts(&a.get_info()))
             .min_by_key(|a| rank(&a.get_info()))
             .ok_or_else(|| {
-                if names.is_empty() {
+                if names.is_empty() && cfg!(target_arch = "wasm32") {
+                    Error::NoAdapter(
+                        "the browser offers no WebGPU adapter (is WebGPU on? Chromium offers a \
+                         CPU adapter only with --enable-unsafe-webgpu)"
+                            .into(),
+                    )
+                } else if names.is_empty() {
                     Error::NoAdapter(
                         "no Vulkan, Metal or DX12 adapter exists on this machine. \
                          Install a GPU driver, or Mesa's software Vulkan driver: \
