@@ -89,7 +89,8 @@ def main():
         script = ("const e = document.getElementById(arguments[0]); e.value = arguments[1];"
                   "e.dispatchEvent(new Event('change')); return e.value;")
         probe = ("const s = document.getElementById('status');"
-                 "return [Number(s.dataset.frames || 0), s.dataset.error || '', s.textContent];")
+                 "return [Number(s.dataset.frames || 0),"
+                 " s.dataset.error || s.dataset.refused || '', s.textContent];")
         t0, switched, start_frames = time.time(), not sets, 0
         while True:
             n, error, text = call(base, "POST", s + "/execute/sync", {"script": probe, "args": []})

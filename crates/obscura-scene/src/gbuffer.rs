@@ -398,9 +398,35 @@ impl GBufferRenderer {
     /// (linear view depth; obscura's thickness prior, [`obscura::AoParams::thickness`]
     /// times the radius) behind the first layer, as [`obscura::AoInput::second_layer`]
     /// wants it; the far plane (sky) where there is none. Waits for completion.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn peel(
         &self,
         ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        gbuffer: &GBuffer,
+        separation: f32,
+    ) -> Result<DepthLayer, SceneError> {
+        self.peel_into((ctx, None), mesh, camera, gbuffer, separation)
+    }
+
+    /// [`Self::peel`] recorded into `encoder` after `gbuffer`'s own draw, without waiting
+    /// (the web's form).
+    pub fn record_peel(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        gbuffer: &GBuffer,
+        separation: f32,
+    ) -> Result<DepthLayer, SceneError> {
+        self.peel_into((ctx, Some(encoder)), mesh, camera, gbuffer, separation)
+    }
+
+    fn peel_into(
+        &self,
+        (ctx, encoder): (&GpuContext, Option<&mut wgpu::CommandEncoder>),
         mesh: &GpuMesh,
         camera: &Camera,
         gbuffer: &GBuffer,
@@ -445,7 +471,13 @@ impl GBufferRenderer {
                 },
             ],
         });
-        self.draw((ctx, None), mesh, (&self.peel_pipeline, &bind), None, &view)?;
+        self.draw(
+            (ctx, encoder),
+            mesh,
+            (&self.peel_pipeline, &bind),
+            None,
+            &view,
+        )?;
         Ok(DepthLayer {
             texture: depth,
             view,

@@ -39,6 +39,10 @@ pub struct Demo {
     present: wgpu::RenderPipeline,
     view: wgpu::Buffer,
     mode: u32,
+    /// The guard band rasterized around the view, pixels, and whether a second depth layer
+    /// is peeled for the bitmask (AoInput::guard_band, AoInput::second_layer).
+    guard: u32,
+    second: bool,
     /// The last finished frame's time, ms (recording to completion), as f64 bits; the
     /// frames finished; whether one is in flight (a CPU adapter takes longer than a
     /// display refresh: frames queued faster than they finish would pile up until the
@@ -109,7 +113,7 @@ pub async fn start(canvas: web_sys::HtmlCanvasElement) -> Result<Demo, JsValue> 
         });
     let view = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("present view"),
-        size: 16,
+        size: 32,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
@@ -129,6 +133,8 @@ pub async fn start(canvas: web_sys::HtmlCanvasElement) -> Result<Demo, JsValue> 
         present,
         view,
         mode: 1,
+        guard: 0,
+        second: false,
         last_ms: Arc::new(AtomicU64::new(0f64.to_bits())),
         finished: Arc::new(AtomicU32::new(0)),
         in_flight: Arc::new(AtomicBool::new(false)),
@@ -154,8 +160,9 @@ impl Demo {
     }
 
     /// Sets an option by the page's control name (`estimator`, `preset`, `layout`,
-    /// `resolution`, `denoise`, `temporal`, `view`) and recompiles the AO pipeline. A
-    /// combination obscura refuses leaves the last one running and throws its message.
+    /// `resolution`, `denoise`, `temporal`, `guard`, `second`, `view`) and recompiles the
+    /// AO pipeline. A combination obscura refuses (a second layer without the bitmask, or
+    /// below full resolution) leaves the last one running and throws its message.
     pub fn set(&mut self, control: &str, value: &str) -> Result<(), JsValue> {
         let mut o = self.options;
         match control {
@@ -175,6 +182,12 @@ impl Demo {
             "resolution" => o.resolution = pick(&Resolution::ALL, Resolution::name, value)?,
             "denoise" => o.denoise = pick(&Denoise::ALL, Denoise::name, value)?,
             "temporal" => o.history = value.parse().map_err(js)?,
+            "guard" => {
+                self.guard = value.parse().map_err(js)?;
+                self.previous = None;
+                return Ok(());
+            }
+            "second" => o.second_layer = value == "on",
             "view" => {
                 self.mode = match value {
                     "ao" => 0,
@@ -191,6 +204,7 @@ impl Demo {
         (o.directions, o.steps) = (samples.directions, samples.steps);
         self.ao = Ao::new(&self.ctx.device, o).map_err(js)?;
         self.options = o;
+        self.second = o.second_layer;
         self.previous = None;
         Ok(())
     }
@@ -254,15 +268,38 @@ impl Demo {
         let mut enc = device.create_command_encoder(&Default::default());
         let g = self
             .raster
-            .record_guarded(&self.ctx, &mut enc, &self.mesh, &cam, (w, h), 0)
+            .record_guarded(&self.ctx, &mut enc, &self.mesh, &cam, (w, h), self.guard)
             .map_err(js)?;
-        let input = g.ao_input(&cam, true);
+        // The second layer, peeled at the thickness prior behind the first.
+        let second = if self.second {
+            let separation = params.thickness * self.radius;
+            let layer = self
+                .raster
+                .record_peel(&self.ctx, &mut enc, &self.mesh, &cam, &g, separation)
+                .map_err(js)?;
+            Some(layer)
+        } else {
+            None
+        };
+        let input = obscura::AoInput {
+            second_layer: second.as_ref().map(|l| &l.view),
+            ..g.ao_input(&cam, true)
+        };
         self.ao
             .record(device, &self.ctx.queue, &mut enc, &input, &params)
             .map_err(js)?;
         let ao = self.ao.output().ok_or("no AO output")?;
         let ao_view = ao.create_view(&Default::default());
-        let view = [self.mode, w, cam.near.to_bits(), cam.far.to_bits()];
+        let view = [
+            self.mode,
+            w,
+            cam.near.to_bits(),
+            cam.far.to_bits(),
+            self.guard,
+            0,
+            0,
+            0,
+        ];
         self.ctx
             .queue
             .write_buffer(&self.view, 0, bytemuck::cast_slice(&view));

@@ -9,6 +9,9 @@ struct View {
     // The camera's clip planes, to linearise the standard depth.
     near: f32,
     far: f32,
+    // The G-buffer's guard band: the view's pixel q is its texel q + guard (the AO is the
+    // view's own size).
+    guard: u32,
 }
 
 @group(0) @binding(0) var ao: texture_2d<f32>;
@@ -27,9 +30,10 @@ fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     let q = vec2<i32>(p.xy);
     let a = textureLoad(ao, q, 0).x;
-    let n = textureLoad(normals, q, 0).xyz;
-    let z = textureLoad(depth, q, 0);
-    let base = textureLoad(albedo, q, 0);
+    let gq = q + vec2<i32>(i32(view.guard));
+    let n = textureLoad(normals, gq, 0).xyz;
+    let z = textureLoad(depth, gq, 0);
+    let base = textureLoad(albedo, gq, 0);
     if view.mode == 1u {
         if base.a == 0.0 {
             return vec4<f32>(0.62, 0.74, 0.88, 1.0);
