@@ -6,8 +6,9 @@ writes a screenshot. Fails on a page error, a timeout, or a screenshot that is o
 
     python3 scripts/web-demo-check.py [OUT.png] [--frames N] [--set CONTROL=VALUE ...]
 
---set changes a control of the page (view, estimator, preset, layout, resolution, denoise,
-temporal) once the first frame is done; FRAMES more frames must then finish. The flags
+--set changes a control of the page (scene, view, estimator, preset, layout, resolution,
+denoise, temporal, guard, second) once the first frame is done; FRAMES more frames must
+then finish (after the scene has loaded: `--set scene=sponza` needs ../shared/scenes). The flags
 that give headless Chromium WebGPU on the CPU with a canvas: --enable-unsafe-webgpu, and
 Vulkan on SwiftShader for the compositor (without them the device is lost at the first
 frame).
@@ -90,10 +91,14 @@ def main():
                   "e.dispatchEvent(new Event('change')); return e.value;")
         probe = ("const s = document.getElementById('status');"
                  "return [Number(s.dataset.frames || 0),"
-                 " s.dataset.error || s.dataset.refused || '', s.textContent];")
+                 " s.dataset.error || s.dataset.refused || '', s.textContent,"
+                 " s.dataset.scene || 'courtyard'];")
         t0, switched, start_frames = time.time(), not sets, 0
+        # A scene is fetched and loaded asynchronously: count frames from its arrival.
+        want_scene = dict(sets).get("scene", "courtyard")
         while True:
-            n, error, text = call(base, "POST", s + "/execute/sync", {"script": probe, "args": []})
+            n, error, text, scene = call(base, "POST", s + "/execute/sync",
+                                         {"script": probe, "args": []})
             if error:
                 for entry in call(base, "POST", s + "/se/log", {"type": "browser"}):
                     print("web-demo-check: console:", entry.get("message", ""), file=sys.stderr)
@@ -105,7 +110,9 @@ def main():
                     if got != value:
                         sys.exit(f"web-demo-check: the page has no {control} `{value}`")
                 switched, start_frames = True, n
-            if switched and n >= start_frames + frames:
+            if switched and scene != want_scene:
+                start_frames = n
+            elif switched and n >= start_frames + frames:
                 break
             if time.time() - t0 > 600:
                 sys.exit(f"web-demo-check: no {frames} frames after 600 s: {text}")

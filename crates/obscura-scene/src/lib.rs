@@ -5,7 +5,6 @@
 pub mod camera;
 pub mod default_scene;
 pub mod gbuffer;
-#[cfg(not(target_arch = "wasm32"))]
 mod load;
 pub mod mesh;
 

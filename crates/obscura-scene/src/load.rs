@@ -1,10 +1,11 @@
-//! Scene files: glTF 2.0 and OBJ into a [`Mesh`] (native only: the loaders' crates and
-//! files are not for a browser).
+//! Scene files: glTF 2.0 and OBJ into a [`Mesh`]. Files and OBJ are native only; a GLB's
+//! bytes parse anywhere (the demo page fetches Sponza's).
 
-use crate::{Mesh, SceneError, DEFAULT_ALBEDO};
+use crate::{Mesh, SceneError};
 use glam::Mat4;
 use std::path::Path;
 
+#[cfg(not(target_arch = "wasm32"))]
 fn io_err(path: &Path, source: std::io::Error) -> SceneError {
     SceneError::Io {
         path: path.display().to_string(),
@@ -12,11 +13,21 @@ fn io_err(path: &Path, source: std::io::Error) -> SceneError {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    glb_mesh(path, &bytes)
+}
+
+/// A glTF's mesh from its bytes (`path` names it and holds its external buffers, if any).
+pub(crate) fn glb_mesh(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
     // The gltf crate asserts and panics on some malformed files (fuzz_mesh_loader found an
-    // accessor stride check); a panic anywhere in parsing or reading is a typed error.
-    std::panic::catch_unwind(|| gltf_mesh(path, &bytes)).unwrap_or_else(|_| {
+    // accessor stride check); a panic anywhere in parsing or reading is a typed error
+    // (natively: a browser's wasm aborts on a panic).
+    #[cfg(target_arch = "wasm32")]
+    return gltf_mesh(path, bytes);
+    #[cfg(not(target_arch = "wasm32"))]
+    std::panic::catch_unwind(|| gltf_mesh(path, bytes)).unwrap_or_else(|_| {
         Err(SceneError::Gltf {
             path: path.display().to_string(),
             reason: "the glTF parser failed on malformed input".into(),
@@ -169,6 +180,7 @@ fn check_accessors(root: &gltf::json::Root) -> Result<(), String> {
     Ok(())
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
     // Read the file ourselves so a missing file is an I/O error, not a parse error.
     let text = std::fs::read(path).map_err(|e| io_err(path, e))?;
@@ -211,7 +223,7 @@ pub(crate) fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
             .material_id
             .and_then(|i| materials.get(i))
             .and_then(|mat| mat.diffuse)
-            .unwrap_or(DEFAULT_ALBEDO);
+            .unwrap_or(crate::DEFAULT_ALBEDO);
         mesh.append_coloured(Mat4::IDENTITY, &pos, &m.mesh.indices, colour);
     }
     Ok(mesh)

@@ -2,7 +2,6 @@
 //! applied, flattened into one indexed position list, with a diffuse albedo per vertex
 //! (glTF's base colour factor, OBJ's `Kd`; white where the file names none).
 
-#[cfg(not(target_arch = "wasm32"))]
 use crate::SceneError;
 use glam::{Mat4, Vec3};
 #[cfg(not(target_arch = "wasm32"))]
@@ -112,6 +111,16 @@ impl Mesh {
                 self.indices.extend(t.iter().map(|&i| base + i));
             }
         }
+    }
+
+    /// The mesh of a binary glTF (`.glb`) held in memory, `name` in messages: a browser's
+    /// fetched scene.
+    pub fn from_glb(name: &str, bytes: &[u8]) -> Result<Mesh, SceneError> {
+        let mesh = crate::load::glb_mesh(std::path::Path::new(name), bytes)?;
+        if mesh.indices.is_empty() {
+            return Err(SceneError::Empty(name.into()));
+        }
+        Ok(mesh)
     }
 
     /// Loads a `.glb`, `.gltf` or `.obj` file. Native only (a browser has no files; the

@@ -28,7 +28,9 @@ pub struct Demo {
     config: wgpu::SurfaceConfiguration,
     raster: GBufferRenderer,
     mesh: GpuMesh,
-    /// Orbit around the default camera's target: yaw and pitch (radians), distance.
+    /// The scene's own camera; the orbit turns around its target.
+    base: Camera,
+    /// Orbit around the base camera's target: yaw and pitch (radians), distance.
     orbit: (f32, f32, f32),
     previous: Option<Camera>,
     estimator: Estimator,
@@ -73,13 +75,7 @@ pub async fn start(canvas: web_sys::HtmlCanvasElement) -> Result<Demo, JsValue> 
     let scene = default_scene::mesh();
     let radius = 0.03 * scene.bounds().ok_or("empty scene")?.diagonal();
     let mesh = raster.upload(&ctx, &scene).map_err(js)?;
-    let cam = default_scene::camera();
-    let offset = cam.eye - cam.target;
-    let orbit = (
-        offset.x.atan2(offset.z),
-        (offset.y / offset.length()).asin(),
-        offset.length(),
-    );
+    let base = default_scene::camera();
     let options = AoOptions::default();
     let ao = Ao::new(&ctx.device, options).map_err(js)?;
     let module = ctx
@@ -123,7 +119,8 @@ pub async fn start(canvas: web_sys::HtmlCanvasElement) -> Result<Demo, JsValue> 
         config,
         raster,
         mesh,
-        orbit,
+        base,
+        orbit: orbit_of(&base),
         previous: None,
         estimator: Estimator::Gtao,
         preset: Preset::High,
@@ -140,6 +137,19 @@ pub async fn start(canvas: web_sys::HtmlCanvasElement) -> Result<Demo, JsValue> 
         in_flight: Arc::new(AtomicBool::new(false)),
     })
 }
+
+/// The orbit (yaw, pitch, distance) that gives `camera`'s eye around its target.
+fn orbit_of(camera: &Camera) -> (f32, f32, f32) {
+    let offset = camera.eye - camera.target;
+    (
+        offset.x.atan2(offset.z),
+        (offset.y / offset.length()).asin(),
+        offset.length(),
+    )
+}
+
+/// Sponza's standard view (obscura-eval's views.rs): eye, target, vertical field of view.
+const SPONZA_VIEW: ([f32; 3], [f32; 3], f32) = ([-14.0, 2.0, 0.0], [10.0, 5.0, 0.0], 60.0);
 
 /// `name` among `all`'s names, or the list of names.
 fn pick<T: Copy>(all: &[T], name: impl Fn(T) -> &'static str, s: &str) -> Result<T, JsValue> {
@@ -209,19 +219,52 @@ impl Demo {
         Ok(())
     }
 
+    /// Shows the built-in courtyard.
+    pub fn use_courtyard(&mut self) -> Result<(), JsValue> {
+        let scene = default_scene::mesh();
+        self.switch(&scene, default_scene::camera())
+    }
+
+    /// Shows Sponza from the bytes of the shared scene's `.glb` (fetched by the page when
+    /// the shared scenes are served beside it), from its standard view.
+    pub fn use_sponza(&mut self, glb: &[u8]) -> Result<(), JsValue> {
+        let scene = obscura_scene::Mesh::from_glb("sponza_dabrovic.glb", glb).map_err(js)?;
+        let (eye, target, fov) = SPONZA_VIEW;
+        let mut camera = Camera {
+            eye: glam::Vec3::from(eye),
+            target: glam::Vec3::from(target),
+            up: glam::Vec3::Y,
+            projection: obscura_scene::CameraProjection::Perspective { fov_y_deg: fov },
+            near: 0.0,
+            far: 0.0,
+        };
+        camera.fit_clip_planes(&scene.bounds().ok_or("empty scene")?);
+        self.switch(&scene, camera)
+    }
+
+    fn switch(&mut self, scene: &obscura_scene::Mesh, camera: Camera) -> Result<(), JsValue> {
+        self.mesh = self.raster.upload(&self.ctx, scene).map_err(js)?;
+        self.radius = 0.03 * scene.bounds().ok_or("empty scene")?.diagonal();
+        self.base = camera;
+        self.orbit = orbit_of(&camera);
+        self.previous = None;
+        Ok(())
+    }
+
     /// Turns the camera by a drag of `dx`, `dy` pixels.
     pub fn orbit(&mut self, dx: f32, dy: f32) {
         self.orbit.0 -= dx * 0.01;
-        self.orbit.1 = (self.orbit.1 + dy * 0.01).clamp(0.05, 1.4);
+        self.orbit.1 = (self.orbit.1 + dy * 0.01).clamp(-1.4, 1.4);
     }
 
     /// Moves the camera toward the target (`delta` < 0) or away, as a wheel does.
     pub fn zoom(&mut self, delta: f32) {
-        self.orbit.2 = (self.orbit.2 * (1.0 + delta * 0.001)).clamp(2.0, 30.0);
+        let base = (self.base.eye - self.base.target).length();
+        self.orbit.2 = (self.orbit.2 * (1.0 + delta * 0.001)).clamp(0.2 * base, 4.0 * base);
     }
 
     fn camera(&self) -> Camera {
-        let base = default_scene::camera();
+        let base = self.base;
         let (yaw, pitch, distance) = self.orbit;
         let dir = glam::Vec3::new(
             yaw.sin() * pitch.cos(),
