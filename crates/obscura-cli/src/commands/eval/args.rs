@@ -137,7 +137,7 @@ pub struct EvalArgs {
     /// prior (times the radius) behind the first (obscura-scene's `GBufferRenderer::peel`),
     /// labelled "L2", beside its one-layer twin; the bitmask's screen-space references
     /// likewise. The peel's own time is printed apart (a renderer's cost, not the AO's).
-    /// Clean single-sampled depth and single frames.
+    /// With --frames, every frame of the orbit is peeled too. Clean single-sampled depth.
     #[arg(long)]
     pub second_layer: bool,
     /// Also score the bitmask estimator's screen-space limit with renderer layers,
@@ -389,11 +389,8 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     if a.guard_bands.iter().any(|&g| g > 0) && (a.msaa || a.sensor != SensorArg::None) {
         bail!("--guard-bands evaluates clean single-sampled depth (not with --msaa or --sensor)");
     }
-    if a.second_layer && (a.msaa || a.sensor != SensorArg::None || temporal_run) {
-        bail!(
-            "--second-layer evaluates single frames of clean single-sampled depth (not with \
-             --msaa, --sensor or --frames above 1)"
-        );
+    if a.second_layer && (a.msaa || a.sensor != SensorArg::None) {
+        bail!("--second-layer evaluates clean single-sampled depth (not with --msaa or --sensor)");
     }
     if !a.orbit_step.is_finite() || a.orbit_step.abs() > 90.0 {
         bail!(

@@ -339,7 +339,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 }
                 ao.reset_history();
                 let p = of_variant(i);
-                let input = guarded(guard_of[i]);
+                let input = input_of(i);
                 for _ in 0..frames_of[i] {
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
                 }
@@ -363,6 +363,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 // With guard bands, the orbit's frames carry the widest band too.
                 let gk = raster.render_guarded(&ctx, &gpu_mesh, &c, (w, h), widest)?;
                 let gbuffer_normals = a.normal_source() == NormalSource::Gbuffer;
+                // With --second-layer, each frame's own peel at each finite prior.
+                let mut peels_k = Vec::new();
+                if a.second_layer {
+                    for t in a.priors().into_iter().filter(|t| t.is_finite()) {
+                        peels_k.push((t, raster.peel(&ctx, &gpu_mesh, &c, &gk, t * radius)?));
+                    }
+                }
                 for (i, ao) in aos.iter_mut().enumerate() {
                     let first = orbit_frames - frames_of[i];
                     if frames_of[i] == 1 || k < first {
@@ -376,8 +383,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                         motion,
                         ..of_variant(i)
                     };
+                    let second = variants[i].1.second_layer;
                     let ik = AoInput {
                         guard_band: guard_of[i],
+                        second_layer: peels_k
+                            .iter()
+                            .find(|p| second && p.0 == thickness_of[i])
+                            .map(|p| &p.1.view),
                         ..gk.ao_input(&c, gbuffer_normals)
                     };
                     ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
