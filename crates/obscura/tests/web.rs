@@ -6,8 +6,8 @@
 #![cfg(target_arch = "wasm32")]
 
 use obscura::{
-    reference, AdapterChoice, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention,
-    Error, Estimator, GpuContext, Projection, Resolution, Viewport,
+    reference, AdapterChoice, Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, Error, Estimator,
+    GpuContext, Resolution, Viewport,
 };
 use wasm_bindgen_test::{wasm_bindgen_test, wasm_bindgen_test_configure};
 
@@ -18,15 +18,6 @@ wasm_bindgen_test_configure!(run_in_browser);
 
 const W: u32 = 96;
 const H: u32 = 64;
-
-fn projection() -> Projection {
-    Projection::Perspective {
-        fov_y: analytic::FOV_Y,
-        aspect: W as f32 / H as f32,
-        near: 0.1,
-        far: 100.0,
-    }
-}
 
 async fn context() -> GpuContext {
     let ctx = GpuContext::request(&AdapterChoice::Auto, None)
@@ -52,14 +43,8 @@ async fn run(
     let second_view = second.map(|t| t.create_view(&Default::default()));
     let mut ao = Ao::new(&ctx.device, options).unwrap();
     let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: projection(),
-        normals: None,
-        viewport: None,
-        guard_band: 0,
         second_layer: second_view.as_ref(),
-        output: None,
+        ..analytic::input(&view, W, H)
     };
     let frame = ao.validate(&input, params).unwrap();
     ctx.run_async(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))
@@ -77,18 +62,9 @@ async fn run(
     (out, prepared, frame)
 }
 
-/// The native tests' tolerance (tests/gpu/main.rs, `assert_matches_mirror`): 99.5% of
-/// pixels within 2e-3, none beyond 0.1.
+/// [`analytic::assert_matches_mirror`], where something is occluded.
 fn assert_matches_mirror(gpu: &[f32], cpu: &[f32], what: &str) {
-    assert_eq!(gpu.len(), cpu.len(), "{what}");
-    let diffs: Vec<f32> = gpu.iter().zip(cpu).map(|(g, c)| (g - c).abs()).collect();
-    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-    let max = diffs.iter().cloned().fold(0.0, f32::max);
-    assert!(
-        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
-        "{what}: {close}/{} within 2e-3, max diff {max}",
-        diffs.len()
-    );
+    analytic::assert_matches_mirror(gpu, cpu, what);
     assert!(gpu.iter().any(|&a| a < 0.8), "{what}: nothing occluded");
 }
 
@@ -178,16 +154,7 @@ async fn every_estimator_and_resolution_runs_in_the_browser() {
     let ctx = context().await;
     let tex = ctx.upload_r32("depth", &analytic::scene(W, H), W, H);
     let view = tex.create_view(&Default::default());
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: projection(),
-        normals: None,
-        viewport: None,
-        guard_band: 0,
-        second_layer: None,
-        output: None,
-    };
+    let input = analytic::input(&view, W, H);
     let mut all = Vec::new();
     for estimator in Estimator::ALL {
         for resolution in [Resolution::Full, Resolution::Half, Resolution::Quarter] {
@@ -240,19 +207,13 @@ async fn browser_refuses_bad_input_as_natively() {
     let view = tex.create_view(&Default::default());
     let ao = Ao::new(&ctx.device, AoOptions::default()).unwrap();
     let outside = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: projection(),
-        normals: None,
         viewport: Some(Viewport {
             x: 50,
             y: 0,
             width: W,
             height: H,
         }),
-        guard_band: 0,
-        second_layer: None,
-        output: None,
+        ..analytic::input(&view, W, H)
     };
     assert!(matches!(
         ao.validate(&outside, &AoParams::default()),
@@ -300,21 +261,7 @@ async fn default_frame_time_at_720p() {
     let tex = ctx.upload_r32("depth", &depth, w, h);
     let view = tex.create_view(&Default::default());
     let mut ao = Ao::new(&ctx.device, AoOptions::default()).unwrap();
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: Projection::Perspective {
-            fov_y: analytic::FOV_Y,
-            aspect: w as f32 / h as f32,
-            near: 0.1,
-            far: 100.0,
-        },
-        normals: None,
-        viewport: None,
-        guard_band: 0,
-        second_layer: None,
-        output: None,
-    };
+    let input = analytic::input(&view, w, h);
     let params = AoParams {
         radius: 1.2,
         ..Default::default()

@@ -276,24 +276,7 @@ impl GpuContext {
     /// [`Error::DeviceLost`].
     #[cfg(not(target_arch = "wasm32"))]
     pub fn run<T>(&self, record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>) -> Result<T> {
-        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("obscura"),
-            });
-        let value = record(&mut encoder);
-        let index = self.queue.submit([encoder.finish()]);
-        // wgpu-core reports recording and submission errors synchronously: check them
-        // before waiting on a submission that may not exist.
-        let v_err = pollster::block_on(validation.pop());
-        let o_err = pollster::block_on(oom.pop());
-        if let Some(e) = o_err.or(v_err) {
-            self.take_errors()?;
-            return Err(e.into());
-        }
-        let value = value?;
+        let (value, index) = pollster::block_on(self.submit_checked(record))?;
         self.wait(index)?;
         self.take_errors()?;
         Ok(value)
@@ -306,6 +289,19 @@ impl GpuContext {
         &self,
         record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>,
     ) -> Result<T> {
+        let (value, _) = self.submit_checked(record).await?;
+        self.take_errors()?;
+        Ok(value)
+    }
+
+    /// Records `record` inside validation and out-of-memory error scopes and submits it;
+    /// the scopes' errors (wgpu-core reports recording and submission errors synchronously,
+    /// so natively they resolve at once) come back before anyone waits on a submission
+    /// that may not exist.
+    async fn submit_checked<T>(
+        &self,
+        record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T>,
+    ) -> Result<(T, wgpu::SubmissionIndex)> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = self
@@ -314,16 +310,14 @@ impl GpuContext {
                 label: Some("obscura"),
             });
         let value = record(&mut encoder);
-        self.queue.submit([encoder.finish()]);
+        let index = self.queue.submit([encoder.finish()]);
         let v_err = validation.pop().await;
         let o_err = oom.pop().await;
         if let Some(e) = o_err.or(v_err) {
             self.take_errors()?;
             return Err(e.into());
         }
-        let value = value?;
-        self.take_errors()?;
-        Ok(value)
+        Ok((value?, index))
     }
 
     /// Blocks until submission `index` has finished.

@@ -1,8 +1,51 @@
-//! The analytic scene of the browser tests (tests/web.rs) and of their native twin (the
-//! frame time in tests/gpu/web_frame.rs): a floor, a back wall and a sphere, ray-cast.
+//! Shared by the native GPU tests (tests/gpu/) and the browser tests (tests/web.rs): the
+//! analytic scene (a floor, a back wall and a sphere, ray-cast), its camera and input, and
+//! the tolerance of a GPU pass against its CPU mirror.
+
+use obscura::{AoInput, DepthConvention, Projection};
 
 /// The scene's vertical field of view, radians.
 pub const FOV_Y: f32 = 1.0;
+
+/// The scene's camera for a `w` × `h` image.
+pub fn projection(w: u32, h: u32) -> Projection {
+    Projection::Perspective {
+        fov_y: FOV_Y,
+        aspect: w as f32 / h as f32,
+        near: 0.1,
+        far: 100.0,
+    }
+}
+
+/// The scene's linear depth `view` (`w` × `h`) as obscura's whole input: no viewport,
+/// band, second layer or output of the caller's.
+pub fn input(view: &wgpu::TextureView, w: u32, h: u32) -> AoInput<'_> {
+    AoInput {
+        depth: view,
+        convention: DepthConvention::LinearView,
+        projection: projection(w, h),
+        normals: None,
+        viewport: None,
+        guard_band: 0,
+        second_layer: None,
+        output: None,
+    }
+}
+
+/// GPU AO against its CPU mirror. Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1.
+/// A sample position that lands within float error of a pixel boundary may round to the
+/// neighbour on one side.
+pub fn assert_matches_mirror(gpu: &[f32], cpu: &[f32], what: &str) {
+    assert_eq!(gpu.len(), cpu.len(), "{what}");
+    let diffs: Vec<f32> = gpu.iter().zip(cpu).map(|(g, c)| (g - c).abs()).collect();
+    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
+    let max = diffs.iter().cloned().fold(0.0, f32::max);
+    assert!(
+        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
+        "{what}: {close}/{} within 2e-3, max diff {max}",
+        diffs.len()
+    );
+}
 
 /// Linear view depth of a floor (y = −1), a back wall (z = −8) and a sphere resting on the
 /// floor in front of it, ray-cast through each pixel's centre; 0 where nothing is hit.

@@ -11,6 +11,8 @@ use obscura::{
 };
 use std::sync::{OnceLock, RwLock};
 
+#[path = "../common/analytic.rs"]
+mod analytic;
 mod bitmask;
 #[path = "../common/mod.rs"]
 mod common;
@@ -21,6 +23,7 @@ mod ssdo;
 mod temporal;
 mod web_frame;
 mod webgpu_limits;
+use analytic::assert_matches_mirror;
 use common::linear_input;
 
 pub(crate) fn ctx() -> &'static GpuContext {
@@ -363,20 +366,6 @@ fn all_variants() -> Vec<AoOptions> {
         }
     }
     v
-}
-
-/// GPU AO against its CPU mirror. Tolerance: 99.5% of pixels within 2e-3, none beyond 0.1.
-/// A sample position that lands within float error of a pixel boundary may round to the
-/// neighbour on one side.
-fn assert_matches_mirror(gpu: &[f32], cpu: &[f32], what: &str) {
-    let diffs: Vec<f32> = gpu.iter().zip(cpu).map(|(g, c)| (g - c).abs()).collect();
-    let close = diffs.iter().filter(|d| **d <= 2e-3).count();
-    let max = diffs.iter().cloned().fold(0.0, f32::max);
-    assert!(
-        close as f32 >= 0.995 * diffs.len() as f32 && max <= 0.1,
-        "{what}: {close}/{} within 2e-3, max diff {max}",
-        diffs.len()
-    );
 }
 
 /// GPU AO in every mode against the CPU reference (per full-resolution pixel: the layer's

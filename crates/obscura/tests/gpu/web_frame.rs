@@ -4,10 +4,8 @@
 //! `cargo test --release -p obscura --test gpu -- --ignored default_frame_time --nocapture`;
 //! nothing is asserted on the time.
 
-#[path = "../common/analytic.rs"]
-mod analytic;
-
-use obscura::{Ao, AoInput, AoOptions, AoParams, DepthConvention, Projection};
+use crate::analytic;
+use obscura::{Ao, AoOptions, AoParams};
 
 #[test]
 #[ignore]
@@ -18,21 +16,7 @@ fn default_frame_time_at_720p_native() {
     let tex = crate::upload_r32(&analytic::scene(w, h), w, h);
     let view = tex.create_view(&Default::default());
     let mut ao = Ao::new(&c.device, AoOptions::default()).unwrap();
-    let input = AoInput {
-        depth: &view,
-        convention: DepthConvention::LinearView,
-        projection: Projection::Perspective {
-            fov_y: analytic::FOV_Y,
-            aspect: w as f32 / h as f32,
-            near: 0.1,
-            far: 100.0,
-        },
-        normals: None,
-        viewport: None,
-        guard_band: 0,
-        second_layer: None,
-        output: None,
-    };
+    let input = analytic::input(&view, w, h);
     let params = AoParams {
         radius: 1.2,
         ..Default::default()
