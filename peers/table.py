@@ -7,8 +7,11 @@ its images) and the cost ratio at equal error.
 
 With several eval JSONs (alternated timing rounds, peers/run.sh), each variant's time is
 its median over the rounds, each peer's over its times-rN.json; the errors are the first
-JSON's (every round scores the same images). Each round's ratio of VTK's default (kernel
-32) to obscura's default follows the table.
+JSON's (every round scores the same images). Each round's ratio of each peer's default
+(VTK's kernel 32, Bevy's high) to obscura's default follows the table.
+
+A peer's folder name says what it is: `vtk-kN` (vtkSSAOPass, kernel N), `bevy-QUALITY`
+(Bevy's ScreenSpaceAmbientOcclusion at that quality level).
 """
 
 import json
@@ -19,6 +22,19 @@ from collections import defaultdict
 
 
 DEFAULT = "gtao deinterleaved2 high full spatial"
+# Each peer's own default, by folder name.
+PEER_DEFAULTS = {"vtk-k32": "VTK kernel 32", "bevy-high": "Bevy high"}
+
+
+def peer_name(d):
+    """The table's name of a peer folder (see the module's text)."""
+    kind, _, setting = d.name.partition("-")
+    if kind == "vtk":
+        return f"VTK vtkSSAOPass, kernel {setting.removeprefix('k')}"
+    if kind == "bevy":
+        t = json.loads(next(iter(sorted(d.glob("times*.json")))).read_text())
+        return f"Bevy {t.get('bevy', '')} SSAO, {setting}".replace("  ", " ")
+    return d.name
 
 
 def mean(rows, key):
@@ -65,14 +81,14 @@ def main():
             sys.exit(f"no rows for {name} in {sys.argv[1]}")
         ms = statistics.median(peer_times(d))
         rs = by[name]
-        rows.append((f"VTK vtkSSAOPass, kernel {d.name.split('-k')[-1]}", mean(rs, "rmse"),
+        rows.append((peer_name(d), mean(rs, "rmse"),
                      mean(rs, "bias"), mean(rs, "band_rmse"), ms))
     # obscura's rows: its frontier (no faster variant is more accurate) and the default.
     timed = [(n, r, m) for n, r, _, _, m in rows if n in ours and m is not None]
     front = {n for n, r, m in timed
              if not any(m2 < m and r2 < r for n2, r2, m2 in timed if n2 != n)}
     rows = [row for row in rows if row[0] not in ours or row[0] in front or row[0] == DEFAULT]
-    print("| AO | RMSE | bias | band RMSE | AO ms per frame (llvmpipe: Vulkan for obscura, OpenGL for VTK) | the fastest obscura variant at ≤ this RMSE: its time ÷ this one's |")
+    print("| AO | RMSE | bias | band RMSE | AO ms per frame (llvmpipe: Vulkan for obscura and Bevy, OpenGL for VTK) | the fastest obscura variant at ≤ this RMSE: its time ÷ this one's |")
     print("|---|---|---|---|---|---|")
     for name, rmse, bias, band, ms in sorted(rows, key=lambda r: r[1]):
         # The fastest obscura variant at least as accurate, and how much faster it is.
@@ -84,16 +100,16 @@ def main():
             o_ms, o = min(better)
             equal = f"{o}: {o_ms / ms:.2f}×"
         print(f"| {name} | {rmse:.4f} | {bias:+.4f} | {band:.4f} | {ms:.1f} | {equal} |")
-    # Each round's VTK default against obscura's default, timed back to back.
-    vtk32 = [d for d in peer_dirs if d.name.endswith("-k32")]
-    if len(rounds) > 1 and vtk32:
-        peer = peer_times(vtk32[0])
-        ours_ms = [m.get(DEFAULT) for m in round_ms]
+    # Each round's peer default against obscura's default, timed back to back.
+    ours_ms = [m.get(DEFAULT) for m in round_ms]
+    for d in peer_dirs:
+        if len(rounds) < 2 or d.name not in PEER_DEFAULTS:
+            continue
+        peer = peer_times(d)
         ratios = [f"{p / o:.2f}" for p, o in zip(peer, ours_ms) if o]
-        print(f"\nVTK kernel 32 ÷ obscura's default, round by round: {', '.join(ratios)} "
-              f"(VTK {', '.join(f'{p:.1f}' for p in peer)} ms; obscura "
+        print(f"\n{PEER_DEFAULTS[d.name]} ÷ obscura's default, round by round: {', '.join(ratios)} "
+              f"({', '.join(f'{p:.1f}' for p in peer)} ms; obscura "
               f"{', '.join(f'{o:.1f}' for o in ours_ms if o)} ms)")
-
 
 if __name__ == "__main__":
     main()
