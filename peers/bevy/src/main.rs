@@ -215,13 +215,12 @@ fn read_views(path: &Path) -> Result<Vec<View>, String> {
 /// flat normals: obscura's G-buffer has face normals, and Bevy's SSAO reads the normals.
 fn bevy_mesh(path: &Path) -> Result<Mesh, String> {
     let m = obscura_scene::Mesh::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mesh = Mesh::new(
+    let mut mesh = Mesh::new(
         PrimitiveTopology::TriangleList,
         RenderAssetUsages::RENDER_WORLD,
     )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, m.positions.clone())
-    .with_inserted_indices(Indices::U32(m.indices.clone()));
-    let mut mesh = mesh;
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, m.positions)
+    .with_inserted_indices(Indices::U32(m.indices));
     mesh.duplicate_vertices();
     mesh.compute_flat_normals();
     Ok(mesh)
@@ -504,7 +503,8 @@ fn run() -> Result<(), String> {
                 .collect();
             let (on_ms, off_ms) = (median(on), median(off));
             let wall_ms = on_ms - off_ms;
-            let gpu_ms = (!gpu.is_empty()).then(|| median(gpu.clone()));
+            let gpu_frames = gpu.len();
+            let gpu_ms = (gpu_frames > 0).then(|| median(gpu));
             write_png(
                 &dirs[qi].join(format!("{}.png", v.name)),
                 v.width,
@@ -515,7 +515,7 @@ fn run() -> Result<(), String> {
                 "{} {q}: SSAO {} ms on the GPU over {} frames; wall: frame {on_ms:.1} ms, without {off_ms:.1}, prepasses {prepass_ms:.1}",
                 v.name,
                 gpu_ms.map_or("(no timestamps)".into(), |g| format!("{g:.1}")),
-                gpu.len()
+                gpu_frames
             );
             times[qi].insert(
                 v.name.clone(),
@@ -535,6 +535,9 @@ fn run() -> Result<(), String> {
         }
         app.world_mut().despawn(camera);
         app.world_mut().despawn(object);
+        app.world_mut()
+            .resource_mut::<Assets<Image>>()
+            .remove(&target);
     }
     for (qi, d) in dirs.iter().enumerate() {
         let json = serde_json::json!({
