@@ -66,13 +66,16 @@ fn options(
     }
     let estimator = named("estimator", &Estimator::ALL, Estimator::name, estimator)?;
     let preset = named("preset", &Preset::ALL, preset_name, preset)?;
+    // The preset's samples at this resolution (`AoOptions::with_preset`).
     let o = AoOptions {
+        estimator,
         resolution: named("resolution", &Resolution::ALL, Resolution::name, resolution)?,
         denoise: named("denoise", &Denoise::ALL, Denoise::name, denoise)?,
         // As the CLI: a history only when frames accumulate (16 frames at most).
         history: if frames > 1 { 16 } else { 0 },
-        ..AoOptions::preset(estimator, preset)
-    };
+        ..AoOptions::default()
+    }
+    .with_preset(preset);
     o.validate().map_err(to_py)?;
     Ok(o)
 }
@@ -300,7 +303,9 @@ impl Raw {
 /// Args:
 ///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao", "vo-area" or "bitmask"
 ///         (its thickness prior: `render`'s `thickness`).
-///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel.
+///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel
+///         (high with GTAO at full resolution: 30, three slices of five steps crowded toward
+///         the centre).
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".
 ///     frames: frames of a still camera accumulated per map (1 = one frame).

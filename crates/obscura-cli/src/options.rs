@@ -98,8 +98,9 @@ pub struct QualityArgs {
 /// Preset and explicit sample counts, shared by every subcommand.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
-    /// Quality preset: samples per pixel 8 (low), 16 (medium), 32 (high), 96 (ultra), the same
-    /// for every estimator. --directions and --steps override it.
+    /// Quality preset: samples per pixel 8 (low), 16 (medium), 32 (high; GTAO and the bitmask
+    /// 30 where the layout samples every 1 or 2 pixels: 3 slices × 5 steps crowded toward
+    /// the centre), 96 (ultra). --directions and --steps override it, marching evenly.
     #[arg(long, value_enum, default_value_t = PresetArg::High)]
     pub preset: PresetArg,
     /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel (1..=64). Default: the preset's.
@@ -111,13 +112,20 @@ pub struct SampleArgs {
 }
 
 impl SampleArgs {
-    /// The preset's options for `estimator`, with explicit counts applied.
-    pub fn options(&self, estimator: Estimator) -> AoOptions {
-        let base = AoOptions::preset(estimator, self.preset.into());
+    /// `o` (its estimator, layout and resolution chosen) with the preset's directions,
+    /// steps and march exponent for them (`AoOptions::with_preset`), then the explicit
+    /// counts. Counts given by hand march evenly: the preset's exponent was chosen with
+    /// its own counts (docs/thickness.md).
+    pub fn apply(&self, o: AoOptions) -> AoOptions {
+        let p = o.with_preset(self.preset.into());
+        if self.directions.is_none() && self.steps.is_none() {
+            return p;
+        }
         AoOptions {
-            directions: self.directions.unwrap_or(base.directions),
-            steps: self.steps.unwrap_or(base.steps),
-            ..base
+            directions: self.directions.unwrap_or(p.directions),
+            steps: self.steps.unwrap_or(p.steps),
+            march_exponent: obscura::EVEN_MARCH_EXPONENT,
+            ..p
         }
     }
 }

@@ -78,6 +78,60 @@ fn render_writes_ao_depth_and_normal_images() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
+/// The High preset's samples follow the layout and resolution (`AoOptions::with_preset`):
+/// 3 × 5 steps at march exponent 1.3 where the lattice is at most 2 pixels (the default
+/// 2×2 at full resolution), 4 × 4 even steps at half resolution in the 2×2 layout; counts
+/// given by hand march evenly unless --march-exponent is given.
+#[test]
+fn render_takes_the_presets_samples_for_its_layout_and_resolution() {
+    let d = scratch("preset-samples");
+    let ao = d.join("ao.png");
+    for (extra, want) in [
+        (
+            &[][..],
+            "3 directions x 5 steps (30 samples/pixel), march exponent 1.3, deinterleaved2",
+        ),
+        (
+            &["--resolution", "half"][..],
+            "4 directions x 4 steps (32 samples/pixel), deinterleaved2",
+        ),
+        (
+            &["--mode", "randomized", "--resolution", "half"][..],
+            "3 directions x 5 steps (30 samples/pixel), march exponent 1.3, randomized",
+        ),
+        (
+            &["--steps", "6"][..],
+            "3 directions x 6 steps (36 samples/pixel), deinterleaved2",
+        ),
+        (
+            &["--steps", "6", "--march-exponent", "1.5"][..],
+            "3 directions x 6 steps (36 samples/pixel), march exponent 1.5",
+        ),
+        (
+            &["--estimator", "hbao"][..],
+            "hbao 8 directions x 4 steps (32 samples/pixel), deinterleaved2",
+        ),
+    ] {
+        let mut args = vec![
+            "render",
+            "--width",
+            "64",
+            "--height",
+            "40",
+            "--runs",
+            "1",
+            "--out",
+            s(&ao),
+        ];
+        args.extend_from_slice(extra);
+        let out = obscura(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{extra:?}: {err}");
+        assert!(err.contains(want), "{extra:?}: want `{want}` in {err}");
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}
+
 /// Runs `args` (with `--out DIR/ao.png` appended) and checks the failure contract.
 /// `render --msaa`: the scene's depth rasterized with 4× MSAA and resolved by obscura gives
 /// the same AO as the single-sampled render away from silhouettes (mean |difference| below

@@ -209,9 +209,9 @@ impl Demo {
             }
             _ => return Err(js(format!("no control `{control}`"))),
         }
-        let samples = AoOptions::preset(self.estimator, self.preset);
         o.estimator = self.estimator;
-        (o.directions, o.steps) = (samples.directions, samples.steps);
+        // The preset's samples for this layout and resolution (`AoOptions::with_preset`).
+        let o = o.with_preset(self.preset);
         self.ao = Ao::new(&self.ctx.device, o).map_err(js)?;
         self.options = o;
         self.second = o.second_layer;

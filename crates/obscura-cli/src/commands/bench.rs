@@ -162,10 +162,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
-    let base = a.resolution.apply(AoOptions {
+    // Every compared layout and resolution takes the base's samples.
+    let base = a.quality.samples.apply(a.resolution.apply(AoOptions {
+        estimator: a.quality.estimator.into(),
         mode: a.mode.into(),
-        ..a.quality.samples.options(a.quality.estimator.into())
-    });
+        ..AoOptions::default()
+    }));
     let variants = variants(base, a.compare);
     for (_, o) in &variants {
         o.validate()?;

@@ -110,14 +110,24 @@ impl Estimator {
 }
 
 /// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
-/// that a preset costs the same number of samples per pixel with every estimator:
+/// that a preset costs about the same number of samples per pixel with every estimator:
 ///
-/// | preset | samples/pixel | GTAO slices × steps (each way) | HBAO, VO, VAO, SAO, VO-area directions × steps |
+/// | preset | samples/pixel | GTAO, bitmask: slices × steps (each way) | HBAO, VO, VAO, SAO, VO-area directions × steps |
 /// |---|---|---|---|
 /// | `Low` | 8 | 2 × 2 | 4 × 2 |
 /// | `Medium` | 16 | 2 × 4 | 4 × 4 |
-/// | `High` (default) | 32 | 4 × 4 | 8 × 4 |
+/// | `High` (default) | 30 or 32 | 3 × 5 at march exponent 1.3 where the samples' lattice is at most 2 pixels, else 4 × 4 evenly | 8 × 4 |
 /// | `Ultra` | 96 | 8 × 6 | 16 × 6 |
+///
+/// `High` for GTAO and the bitmask depends on the layout and resolution
+/// ([`AoOptions::with_preset`], [`AoOptions::lattice_px`]): where the samples' lattice is
+/// fine (2×2 layers at full resolution, the randomized layout at full and half
+/// resolution) three slices of five steps crowded toward the centre
+/// ([`HIGH_MARCH_EXPONENT`]) find the contact shadows a few pixels wide that four even
+/// steps step over; they were better than 4 × 4 on every shared view there, with fewer
+/// samples (docs/thickness.md, "The default changed"). Where the lattice is coarser
+/// (4×4 layers, 2×2 layers below full resolution) the crowded steps land on a few lattice
+/// points, the far field thins and the AO brightens, so `High` keeps 4 × 4 evenly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Preset {
     Low,
@@ -412,7 +422,9 @@ pub struct AoOptions {
     /// near the centre, where contact shadows a few pixels wide are (XeGTAO's sample
     /// distribution power). An `override` constant like `steps`: the even march compiles
     /// to exactly the code it was before the exponent existed. Range [1, 4].
-    /// Default [`DEFAULT_MARCH_EXPONENT`].
+    /// Default [`HIGH_MARCH_EXPONENT`], `Preset::High`'s in the default layout; counts
+    /// picked by hand march evenly unless chosen otherwise: set [`EVEN_MARCH_EXPONENT`]
+    /// with them, or use [`AoOptions::with_preset`].
     pub march_exponent: f32,
     /// Single randomized pass or N×N deinterleaving. Default: `Deinterleaved2`, the best
     /// quality per millisecond measured at full resolution (BENCHMARKS.md,
@@ -483,17 +495,25 @@ pub struct AoOptions {
     pub second_layer: bool,
 }
 
-/// The default [`AoOptions::march_exponent`], chosen over all shared views (docs/thickness.md).
-pub const DEFAULT_MARCH_EXPONENT: f32 = 1.0;
+/// The even march, [`AoOptions::march_exponent`] 1: GTAO's steps evenly spaced.
+pub const EVEN_MARCH_EXPONENT: f32 = 1.0;
+
+/// [`Preset::High`]'s march exponent for GTAO and the bitmask where the samples' lattice is
+/// at most [`FINE_LATTICE_PX`] pixels, chosen over all shared views (docs/thickness.md).
+pub const HIGH_MARCH_EXPONENT: f32 = 1.3;
+
+/// The coarsest sampling lattice, in full-resolution pixels, at which `Preset::High`
+/// crowds its steps toward the centre ([`AoOptions::lattice_px`]).
+pub const FINE_LATTICE_PX: f32 = 2.0;
 
 impl Default for AoOptions {
     fn default() -> Self {
         Self {
             estimator: Estimator::default(),
-            // Preset::High for GTAO (a test checks they agree).
-            directions: 4,
-            steps: 4,
-            march_exponent: DEFAULT_MARCH_EXPONENT,
+            // Preset::High for GTAO in the default layout (a test checks they agree).
+            directions: 3,
+            steps: 5,
+            march_exponent: HIGH_MARCH_EXPONENT,
             mode: AoMode::default(),
             fused: true,
             jitter: true,
@@ -529,24 +549,50 @@ fn check<T: std::fmt::Display>(
 }
 
 impl AoOptions {
-    /// The options of `preset` for `estimator` (default mode, fused); see [`Preset`].
+    /// The options of `preset` for `estimator` in the default layout and resolution (2×2
+    /// layers, full resolution, fused); see [`Preset`]. For another layout or resolution,
+    /// set them and then [`AoOptions::with_preset`].
     pub fn preset(estimator: Estimator, preset: Preset) -> Self {
-        let (directions, steps) = match (estimator, preset) {
-            (Estimator::Gtao | Estimator::Bitmask, Preset::Low) => (2, 2),
-            (Estimator::Gtao | Estimator::Bitmask, Preset::Medium) => (2, 4),
-            (Estimator::Gtao | Estimator::Bitmask, Preset::High) => (4, 4),
-            (Estimator::Gtao | Estimator::Bitmask, Preset::Ultra) => (8, 6),
-            (_, Preset::Low) => (4, 2),
-            (_, Preset::Medium) => (4, 4),
-            (_, Preset::High) => (8, 4),
-            (_, Preset::Ultra) => (16, 6),
-        };
         Self {
             estimator,
-            directions,
-            steps,
             ..Self::default()
         }
+        .with_preset(preset)
+    }
+
+    /// These options with `preset`'s directions, steps and march exponent for their
+    /// estimator, layout and resolution (see [`Preset`]); everything else is kept.
+    pub fn with_preset(self, preset: Preset) -> Self {
+        let marches = matches!(self.estimator, Estimator::Gtao | Estimator::Bitmask);
+        let fine = self.lattice_px() <= FINE_LATTICE_PX;
+        let (directions, steps, march_exponent) = match (marches, preset) {
+            (true, Preset::Low) => (2, 2, EVEN_MARCH_EXPONENT),
+            (true, Preset::Medium) => (2, 4, EVEN_MARCH_EXPONENT),
+            (true, Preset::High) if fine => (3, 5, HIGH_MARCH_EXPONENT),
+            (true, Preset::High) => (4, 4, EVEN_MARCH_EXPONENT),
+            (true, Preset::Ultra) => (8, 6, EVEN_MARCH_EXPONENT),
+            (false, Preset::Low) => (4, 2, EVEN_MARCH_EXPONENT),
+            (false, Preset::Medium) => (4, 4, EVEN_MARCH_EXPONENT),
+            (false, Preset::High) => (8, 4, EVEN_MARCH_EXPONENT),
+            (false, Preset::Ultra) => (16, 6, EVEN_MARCH_EXPONENT),
+        };
+        Self {
+            directions,
+            steps,
+            march_exponent,
+            ..self
+        }
+    }
+
+    /// The spacing of the lattice the AO pass samples on, in full-resolution pixels: the
+    /// layout's split (1, 2 or 4) times the resolution's factor. `Scaled` counts at its
+    /// smallest scale ([`MIN_SCALE`]), since its scale changes per frame.
+    pub fn lattice_px(&self) -> f32 {
+        let factor = match self.resolution {
+            Resolution::Scaled => 1.0 / MIN_SCALE,
+            r => r.factor() as f32,
+        };
+        self.mode.split() as f32 * factor
     }
 
     /// Checks every field against its documented range.
@@ -641,6 +687,7 @@ impl AoOptions {
             estimator,
             directions: 64,
             steps: 64,
+            march_exponent: EVEN_MARCH_EXPONENT,
             mode: AoMode::Randomized,
             jitter: false,
             // The integral itself: no denoiser smoothing it (the default has one).
@@ -690,9 +737,38 @@ mod tests {
     fn presets_cost_the_documented_samples_with_every_estimator() {
         for (preset, spp) in Preset::ALL.into_iter().zip([8, 16, 32, 96]) {
             for e in Estimator::ALL {
-                let o = AoOptions::preset(e, preset);
-                o.validate().unwrap();
-                assert_eq!(o.samples_per_pixel(), spp, "{e:?} {preset:?}");
+                AoOptions::preset(e, preset).validate().unwrap();
+                for mode in AoMode::ALL {
+                    for resolution in [
+                        Resolution::Full,
+                        Resolution::Half,
+                        Resolution::Quarter,
+                        Resolution::Scaled,
+                    ] {
+                        let o = AoOptions {
+                            estimator: e,
+                            mode,
+                            resolution,
+                            ..AoOptions::default()
+                        }
+                        .with_preset(preset);
+                        // GTAO's and the bitmask's High on a fine lattice: 3 × 5 crowded.
+                        let crowded = o.march_exponent != EVEN_MARCH_EXPONENT;
+                        let expected = if crowded { 30 } else { spp };
+                        assert_eq!(o.samples_per_pixel(), expected, "{e:?} {preset:?}");
+                        assert_eq!(
+                            crowded,
+                            preset == Preset::High
+                                && matches!(e, Estimator::Gtao | Estimator::Bitmask)
+                                && (mode == AoMode::Randomized
+                                    && resolution != Resolution::Quarter
+                                    && resolution != Resolution::Scaled
+                                    || mode == AoMode::Deinterleaved2
+                                        && resolution == Resolution::Full),
+                            "{e:?} {preset:?} {mode:?} {resolution:?}"
+                        );
+                    }
+                }
             }
         }
     }

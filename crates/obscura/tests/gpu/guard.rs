@@ -147,9 +147,22 @@ fn guard_band_is_the_crop_of_the_widened_frame() {
             let want: Vec<f32> = crop(&whole[(G * bw + G) as usize..], bw, [W, H]);
             let (got, mut ao) = run(options, &guarded_input(&view, p, G), params);
             let d = max_diff(&got, &want);
+            // The bitmask's sectors are a step function: a rounding-level difference in
+            // the uniforms can move one sample across a sector's edge, which changes that
+            // pixel by one sector of one slice (1/32 of it at most; 1 pixel of 3,015 by
+            // 0.0085 measured with 3 × 5 crowded steps). Such pixels may be 0.2% of them.
+            let off = got
+                .iter()
+                .zip(&want)
+                .filter(|(g, w)| (*g - *w).abs() > 1e-4);
+            let (count, limit) = if options.estimator == Estimator::Bitmask {
+                (off.count(), 1.0 / 32.0)
+            } else {
+                (0, 1e-4)
+            };
             assert!(
-                d <= 1e-4,
-                "{what}: guarded AO off the widened frame's by {d}"
+                d <= limit && count * 500 <= got.len(),
+                "{what}: guarded AO off the widened frame's by {d} ({count} pixels above 1e-4)"
             );
             // A second frame creates no GPU object.
             let before = ao.resource_creations();

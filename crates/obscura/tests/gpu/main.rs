@@ -822,11 +822,13 @@ fn planes_facing_or_tilted_are_unoccluded() {
                 p,
                 DepthConvention::LinearView,
                 None,
+                // Each estimator's own High preset in this layout.
                 AoOptions {
                     mode,
                     estimator,
                     ..Default::default()
-                },
+                }
+                .with_preset(obscura::Preset::High),
                 &params,
             );
             let min = r.ao.iter().cloned().fold(1.0, f32::min);
@@ -2962,9 +2964,12 @@ fn mean(v: &[f32]) -> f32 {
 
 /// The analytic case the noise model is for: a tilted plane seen through axial noise has
 /// no occlusion and one normal. With the model the normals are within 10° of the plane's
-/// (median) and the AO within 0.03 of 1 (mean); without it, the same noise gives normals
+/// (median) and the AO within 0.04 of 1 (mean); without it, the same noise gives normals
 /// off by half as much again and visible false occlusion, so the test fails if the model
-/// does nothing.
+/// does nothing. Measured: the default's 3 × 5 steps crowded toward the centre (exponent
+/// 1.3) read 0.966 with the model and 0.898 without; 4 × 4 even steps 0.981 and 0.918
+/// (short steps see the noise as slope; over the shared views with Kinect-like noise the
+/// crowded march is still the more accurate, docs/thickness.md).
 #[test]
 fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
     let _g = lock();
@@ -2997,7 +3002,7 @@ fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
     let (angle, ao) = stats(noise);
     let (raw_angle, raw_ao) = stats(obscura::DepthNoise::NONE);
     assert!(
-        angle < 10.0 && ao > 0.97,
+        angle < 10.0 && ao > 0.96,
         "with the model: median normal error {angle}°, mean AO {ao}"
     );
     assert!(

@@ -45,13 +45,10 @@ impl EvalArgs {
         self.guard_bands.iter().any(|&g| g > 0)
     }
 
-    /// The march exponents to run: --march-exponents, or the library's default.
-    pub fn exponents(&self) -> Vec<f32> {
-        if self.march_exponents.is_empty() {
-            vec![obscura::DEFAULT_MARCH_EXPONENT]
-        } else {
-            self.march_exponents.clone()
-        }
+    /// The march exponents to run: --march-exponents, or `None` for each variant's own
+    /// (its preset's; even with --splits, --directions or --steps).
+    pub fn exponents(&self) -> Option<Vec<f32>> {
+        (!self.march_exponents.is_empty()).then(|| self.march_exponents.clone())
     }
 }
 
@@ -121,7 +118,9 @@ pub struct EvalArgs {
     pub thickness: Vec<f32>,
     /// March exponents of GTAO and the bitmask estimator (comma-separated, each in [1, 4];
     /// see `obscura::AoOptions::march_exponent`): with more than one, each of their variants
-    /// runs with each, labelled "eE". Default: the library's.
+    /// runs with each, labelled "eE". Default: each variant's preset's (1.3 for high
+    /// where the layout samples every 1 or 2 pixels), 1 with --splits, --directions or
+    /// --steps.
     #[arg(long, value_delimiter = ',')]
     pub march_exponents: Vec<f32>,
     /// Guard bands, pixels on each side (comma-separated, 0 = none): each variant runs

@@ -255,11 +255,12 @@ pub(super) fn evaluate(a: &EvalArgs, jobs: &[Job]) -> Result<()> {
         let light = lighting(&irradiance, &cam);
         let ones = ctx.upload_r32("ones", &vec![1.0; (w * h) as usize], w, h);
         for (m, &mode) in a.modes.iter().enumerate() {
-            let options = AoOptions {
+            let options = a.samples.apply(AoOptions {
+                estimator: Estimator::Gtao,
                 mode: mode.into(),
                 bent_normals: true,
-                ..a.samples.options(Estimator::Gtao)
-            };
+                ..AoOptions::default()
+            });
             let mut ao = Ao::new(&ctx.device, options)?;
             let frame = ao.validate(&input, &params)?;
             ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &params))?;

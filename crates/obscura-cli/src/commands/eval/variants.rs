@@ -55,25 +55,34 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
             .flat_map(|m| choices.iter().map(move |c| (m, c)))
         {
             let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
-            let mut base = AoOptions {
+            let base = AoOptions {
+                estimator,
                 mode,
-                ..a.samples.options(estimator)
+                ..AoOptions::default()
             };
             let mut name = format!("{} {}", estimator.name(), mode.name());
             match *choice {
                 SampleChoice::Given => {}
                 SampleChoice::Split((directions, steps)) => {
-                    base.directions = directions;
-                    base.steps = steps;
                     name = format!("{name} {directions}×{steps}");
                 }
                 SampleChoice::Preset(p) => {
-                    let o = AoOptions::preset(estimator, p.into());
-                    (base.directions, base.steps) = (o.directions, o.steps);
                     let label = p.to_possible_value().map(|v| v.get_name().to_owned());
                     name = format!("{name} {}", label.unwrap_or_default());
                 }
             }
+            // The samples of a variant once its resolution is set: a preset's depend on
+            // the lattice (`AoOptions::with_preset`); hand-picked splits march evenly.
+            let samples = |o: AoOptions| match *choice {
+                SampleChoice::Given => a.samples.apply(o),
+                SampleChoice::Split((directions, steps)) => AoOptions {
+                    directions,
+                    steps,
+                    march_exponent: obscura::EVEN_MARCH_EXPONENT,
+                    ..o
+                },
+                SampleChoice::Preset(p) => o.with_preset(p.into()),
+            };
             for &resolution in &a.resolutions {
                 for &denoise in &a.denoise {
                     if resolution == Resolution::Full {
@@ -81,20 +90,20 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                             Denoise::None => name.clone(),
                             d => format!("{name} full {}", d.name()),
                         };
-                        let o = AoOptions { denoise, ..base };
+                        let o = samples(AoOptions { denoise, ..base });
                         variants.push((label, o));
                         scales.push(1.0);
                         continue;
                     }
                     for &downsample in &a.downsamples {
                         for &upsample in &a.upsamplers {
-                            let o = AoOptions {
+                            let o = samples(AoOptions {
                                 resolution,
                                 downsample,
                                 upsample,
                                 denoise,
                                 ..base
-                            };
+                            });
                             let mut label = format!(
                                 "{name} {} {} {}",
                                 resolution.name(),
@@ -118,12 +127,12 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                     if !matches!(denoise, Denoise::None | Denoise::Spatial) {
                         continue;
                     }
-                    let o = AoOptions {
+                    let o = samples(AoOptions {
                         resolution: Resolution::Scaled,
                         upsample: Upsampler::Bilateral,
                         denoise,
                         ..base
-                    };
+                    });
                     let mut label = format!("{name} scaled {scale}");
                     if denoise != Denoise::None {
                         label = format!("{label} {}", denoise.name());
@@ -158,10 +167,11 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
         } else {
             &[obscura::DEFAULT_THICKNESS]
         };
-        let exponents = if marches {
-            &exponents[..]
-        } else {
-            &[obscura::DEFAULT_MARCH_EXPONENT]
+        // Without --march-exponents each variant keeps its own (the preset's, or even).
+        let own = [o.march_exponent];
+        let exponents = match &exponents {
+            Some(e) if marches => &e[..],
+            _ => &own[..],
         };
         for &thickness in priors {
             for &exponent in exponents {

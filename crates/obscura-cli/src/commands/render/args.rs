@@ -92,9 +92,11 @@ pub struct RenderArgs {
     #[arg(long, value_parser = crate::options::parse_thickness, default_value_t = AoParams::default().thickness)]
     pub thickness: f32,
     /// GTAO's and the bitmask estimator's march exponent (1..=4): 1 spaces steps evenly,
-    /// 2 puts them closer near the centre. Other estimators ignore it.
-    #[arg(long, default_value_t = obscura::DEFAULT_MARCH_EXPONENT)]
-    pub march_exponent: f32,
+    /// 2 puts them closer near the centre. Other estimators ignore it. Default: the
+    /// preset's (1.3 for high where the layout samples every 1 or 2 pixels), 1 with
+    /// --directions or --steps.
+    #[arg(long)]
+    pub march_exponent: Option<f32>,
     /// Clamp of the on-screen radius in pixels (1..=4096).
     #[arg(long, default_value_t = AoParams::default().max_radius_px)]
     pub max_radius_px: f32,
@@ -324,7 +326,18 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
 }
 
 pub(crate) fn options(a: &RenderArgs) -> AoOptions {
-    a.resolution.apply(AoOptions {
+    options_at(a, a.resolution.resolution)
+}
+
+/// The options of `a` at `resolution` instead of its own, with the samples the preset
+/// gives there (the frame budget's scaled AO).
+pub(crate) fn options_at(a: &RenderArgs, resolution: Resolution) -> AoOptions {
+    let chosen = AoOptions {
+        resolution,
+        ..a.resolution.apply(AoOptions::default())
+    };
+    let o = a.quality.samples.apply(AoOptions {
+        estimator: a.quality.estimator.into(),
         mode: a.mode.into(),
         fused: !a.unfused,
         history: if a.frames > 1 || a.orbit.is_some() {
@@ -334,10 +347,13 @@ pub(crate) fn options(a: &RenderArgs) -> AoOptions {
         },
         bent_normals: a.bent_normals_out.is_some()
             || (a.ssdo.is_some() && Estimator::from(a.quality.estimator).has_bent_normals()),
-        march_exponent: a.march_exponent,
         second_layer: a.second_layer,
-        ..a.quality.samples.options(a.quality.estimator.into())
-    })
+        ..chosen
+    });
+    AoOptions {
+        march_exponent: a.march_exponent.unwrap_or(o.march_exponent),
+        ..o
+    }
 }
 
 pub(crate) fn params(a: &RenderArgs, radius: f32) -> AoParams {

@@ -254,7 +254,7 @@ pub fn orbit_scaled(
     budget_ms: f64,
 ) -> Result<()> {
     let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
-    let options = scaled_options(base);
+    let options = scaled_options(a, base);
     let mut ao = Ao::new(&ctx.device, options)?;
     // Compiled and its textures (those of scale 1 serve every scale) created before the
     // first timed frame: nothing is created during the orbit.
@@ -344,7 +344,7 @@ pub fn orbit_joint(
     budget_ms: f64,
 ) -> Result<()> {
     let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
-    let mut scaled = Ao::new(&ctx.device, scaled_options(base))?;
+    let mut scaled = Ao::new(&ctx.device, scaled_options(a, base))?;
     let mut rungs = Vec::with_capacity(JOINT_RUNGS.len());
     for preset in JOINT_RUNGS {
         rungs.push(ao_at(ctx, base, Resolution::Full, preset)?);
@@ -451,8 +451,9 @@ pub fn orbit_joint(
         Preset::ALL
             .into_iter()
             .find(|&p| {
-                let q = AoOptions::preset(o.estimator, p);
-                (q.directions, q.steps) == (o.directions, o.steps)
+                let q = o.with_preset(p);
+                (q.directions, q.steps, q.march_exponent)
+                    == (o.directions, o.steps, o.march_exponent)
             })
             .map_or_else(
                 || format!("{}x{}", o.directions, o.steps),
@@ -495,18 +496,11 @@ pub fn orbit_joint(
     write_outputs(dir, &csv, &plot(&times, &knob, &labels, "knob", budget_ms))
 }
 
-/// An `Ao` with `base`'s settings at `resolution` and `preset`'s slices and steps.
+/// An `Ao` with `base`'s settings at `resolution` and `preset`'s slices, steps and march
+/// exponent there.
 fn ao_at(ctx: &GpuContext, base: AoOptions, resolution: Resolution, preset: Preset) -> Result<Ao> {
-    let o = AoOptions::preset(base.estimator, preset);
-    Ok(Ao::new(
-        &ctx.device,
-        AoOptions {
-            resolution,
-            directions: o.directions,
-            steps: o.steps,
-            ..base
-        },
-    )?)
+    let o = AoOptions { resolution, ..base }.with_preset(preset);
+    Ok(Ao::new(&ctx.device, o)?)
 }
 
 /// The median of each variant's three timed runs.
@@ -528,10 +522,15 @@ fn undominated(costs: &[f64]) -> Vec<usize> {
         .collect()
 }
 
-/// The options of the scaled `Ao` that the orbit's scale knobs turn: the bilateral
-/// upsampler (the only one at any scale), denoise none or spatial, no bent normals.
-fn scaled_options(base: AoOptions) -> AoOptions {
+/// The options of the scaled `Ao` that the orbit's scale knobs turn: `a`'s samples at
+/// `Resolution::Scaled`, the bilateral upsampler (the only one at any scale), denoise none
+/// or spatial, no bent normals.
+fn scaled_options(a: &RenderArgs, base: AoOptions) -> AoOptions {
+    let samples = super::args::options_at(a, Resolution::Scaled);
     AoOptions {
+        directions: samples.directions,
+        steps: samples.steps,
+        march_exponent: samples.march_exponent,
         resolution: Resolution::Scaled,
         upsample: Upsampler::Bilateral,
         denoise: match base.denoise {

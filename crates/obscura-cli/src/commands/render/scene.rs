@@ -158,12 +158,21 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     };
     let mut ao = Ao::new(&ctx.device, options)?;
     let frame = ao.validate(&input, &params)?;
+    let marches = matches!(
+        options.estimator,
+        obscura::Estimator::Gtao | obscura::Estimator::Bitmask
+    );
     eprintln!(
-        "ao: {} {} directions x {} steps ({} samples/pixel), {}{}, radius {radius:.3} scene units",
+        "ao: {} {} directions x {} steps ({} samples/pixel){}, {}{}, radius {radius:.3} scene units",
         options.estimator.name(),
         options.directions,
         options.steps,
         options.samples_per_pixel(),
+        if marches && options.march_exponent != obscura::EVEN_MARCH_EXPONENT {
+            format!(", march exponent {}", options.march_exponent)
+        } else {
+            String::new()
+        },
         options.mode.name(),
         if options.fused { "" } else { " (unfused)" },
     );
