@@ -58,7 +58,9 @@ def ambient_occlusion(
         only the front of each object: this assumes every object is that deep behind each
         pixel, along its ray (docs/thickness.md). Other estimators ignore it.
     estimator: "gtao", "hbao", "vo", "vao", "sao", "vo-area" or "bitmask".
-    preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel).
+    preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel;
+        high with GTAO or the bitmask at full or randomized half resolution: 30, three
+        slices of five steps crowded toward the centre).
     resolution: "full", "half" or "quarter".
     denoise: "spatial", "none", "box" or "tent".
     frames: still-camera frames accumulated, 1..=100000 (1: one frame); each call starts

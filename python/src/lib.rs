@@ -304,8 +304,8 @@ impl Raw {
 ///     estimator: "gtao" (default), "hbao", "vo", "vao", "sao", "vo-area" or "bitmask"
 ///         (its thickness prior: `render`'s `thickness`).
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel
-///         (high with GTAO at full resolution: 30, three slices of five steps crowded toward
-///         the centre).
+///         (high with GTAO or the bitmask at full resolution: 30, three slices of five steps
+///         crowded toward the centre).
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".
 ///     frames: frames of a still camera accumulated per map (1 = one frame).

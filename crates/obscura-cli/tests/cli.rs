@@ -759,6 +759,61 @@ fn eval_writes_report_json_and_caches_the_reference() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
+/// Below full resolution a variant is compared with the full-resolution one of the same
+/// preset, although High's counts differ there (3 × 5 crowded at full resolution in the
+/// 2×2 layout, 4 × 4 even at half): its "RMSE vs full res" is a number, and it is 0 only
+/// for a full-resolution variant's own row (which has none).
+#[test]
+fn eval_compares_half_resolution_with_the_same_presets_full_resolution() {
+    let d = scratch("eval-full-of");
+    let (report, json, cache) = (d.join("report"), d.join("q.json"), d.join("cache"));
+    let args = [
+        "--width",
+        "64",
+        "--height",
+        "40",
+        "--rays",
+        "16",
+        "--runs",
+        "1",
+        "--estimators",
+        "gtao",
+        "--modes",
+        "deinterleaved2",
+        "--resolutions",
+        "full,half",
+        "--denoise",
+        "none",
+        "--no-screen-reference",
+        "--no-pictures",
+    ];
+    let out = eval_cornell(&args, &report, Some(&json), &cache);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let record = |variant: &str| {
+        v["records"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["variant"] == variant)
+            .unwrap_or_else(|| panic!("no `{variant}` in {v}"))
+            .clone()
+    };
+    let half = record("gtao deinterleaved2 half checkerboard bilateral");
+    let full = record("gtao deinterleaved2");
+    assert!(full["full_rmse"].is_null(), "{full}");
+    let vs_full = half["full_rmse"]
+        .as_f64()
+        .expect("half resolution has RMSE vs full");
+    assert!(vs_full > 0.0 && vs_full < 0.2, "{half}");
+    std::fs::remove_dir_all(d).unwrap();
+}
+
 /// `eval --score-images`: AO images made elsewhere get the same metrics as the variants.
 /// Analytic checks: a white 16-bit image scores exactly what the "white (no AO)" row does;
 /// a uniform 0.5 (8-bit 128/255) has that row's RMSE structure shifted: its bias is the

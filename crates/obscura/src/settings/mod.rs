@@ -124,10 +124,11 @@ impl Estimator {
 /// fine (2×2 layers at full resolution, the randomized layout at full and half
 /// resolution) three slices of five steps crowded toward the centre
 /// ([`HIGH_MARCH_EXPONENT`]) find the contact shadows a few pixels wide that four even
-/// steps step over; they were better than 4 × 4 on every shared view there, with fewer
-/// samples (docs/thickness.md, "The default changed"). Where the lattice is coarser
-/// (4×4 layers, 2×2 layers below full resolution) the crowded steps land on a few lattice
-/// points, the far field thins and the AO brightens, so `High` keeps 4 × 4 evenly.
+/// steps step over; with fewer samples they were better than 4 × 4 there on the mean of
+/// the shared views, and at full resolution on every view (docs/thickness.md, "The default
+/// changed"). Where the lattice is coarser (4×4 layers, 2×2 layers below full resolution,
+/// the randomized layout at quarter or scaled resolution) the crowded steps land on a few
+/// lattice points, the far field thins and the AO brightens, so `High` keeps 4 × 4 evenly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Preset {
     Low,
@@ -410,9 +411,10 @@ pub struct AoOptions {
     pub estimator: Estimator,
     /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel. Unit: count. Range 1..=64
     /// (64 × 64 is the screen-space reference's brute force).
-    /// Default 4 (GTAO's `Preset::High`; [`AoOptions::preset`] gives every estimator's).
+    /// Default 3 (GTAO's `Preset::High` in the default layout; [`AoOptions::with_preset`]
+    /// gives every estimator's, for any layout and resolution).
     pub directions: u32,
-    /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 4.
+    /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 5.
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
     /// Where GTAO's and the bitmask estimator's steps land along a direction (other

@@ -95,6 +95,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         thickness_of,
         frames_of,
         guard_of,
+        samples_of,
         orbit_frames,
     } = variant_list(a)?;
     let mut aos: Vec<Ao> = variants
@@ -617,23 +618,17 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             bent_of.insert(label.clone(), e);
         }
         let r = &reference.ao;
-        // The full-resolution result of the same estimator, mode and samples, if evaluated.
-        // (Variant i is results row first_variant + i; its guard band must match too.)
+        // The full-resolution result of the same estimator, mode and sample choice (a
+        // preset's counts follow the resolution), if evaluated. (Variant i is results row
+        // first_variant + i; its guard band must match too.)
         let first_variant = 1 + screen.len();
-        let full_of = |o: &AoOptions, guard: u32| {
+        let full_of = |o: &AoOptions, i: usize| {
             results.iter().enumerate().find_map(|(k, r)| {
-                let same_band = k
-                    .checked_sub(first_variant)
-                    .and_then(|i| guard_of.get(i))
-                    .is_some_and(|&g| g == guard);
-                r.5.filter(|f| {
-                    same_band
-                        && f.direct()
-                        && f.estimator == o.estimator
-                        && f.mode == o.mode
-                        && (f.directions, f.steps) == (o.directions, o.steps)
-                })
-                .map(|_| &r.3)
+                let same = k.checked_sub(first_variant).is_some_and(|j| {
+                    guard_of.get(j) == guard_of.get(i) && samples_of.get(j) == samples_of.get(i)
+                });
+                r.5.filter(|f| same && f.direct() && f.estimator == o.estimator && f.mode == o.mode)
+                    .map(|_| &r.3)
             })
         };
         for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
@@ -645,7 +640,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .unwrap_or(obscura::DEFAULT_THICKNESS);
             let guard = variant.and_then(|i| guard_of.get(i).copied()).unwrap_or(0);
             let full_rmse = options.filter(|o| !o.direct()).and_then(|o| {
-                full_of(&o, guard)
+                full_of(&o, variant?)
                     .map(|f| (metrics::rmse(img, f, &mask), metrics::rmse(img, f, &band)))
             });
             let screen = ms

@@ -16,6 +16,10 @@ enum SampleChoice {
     Preset(PresetArg),
 }
 
+/// A variant's sample choice: the index of its split or preset, and its march exponent's
+/// bits when --march-exponents names them (0 otherwise).
+pub(super) type SampleKey = (usize, u32);
+
 /// The variants of a run, index by index.
 pub(super) struct Variants {
     /// Each variant's label and options.
@@ -29,6 +33,9 @@ pub(super) struct Variants {
     pub(super) frames_of: Vec<u32>,
     /// Each variant's guard band, pixels (`AoInput::guard_band`).
     pub(super) guard_of: Vec<u32>,
+    /// Each variant's sample choice. Variants at other resolutions compare with the full-resolution one of the same choice, whose counts
+    /// may differ (a preset's follow the lattice, `AoOptions::with_preset`).
+    pub(super) samples_of: Vec<SampleKey>,
     /// The longest frame count: the orbit's length.
     pub(super) orbit_frames: u32,
 }
@@ -39,6 +46,8 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     let mut variants: Vec<(String, AoOptions)> = Vec::new();
     // Each variant's `AoParams::scale` (1 but for the scaled ones).
     let mut scales: Vec<f32> = Vec::new();
+    // Each variant's index in `choices`.
+    let mut choice_of: Vec<usize> = Vec::new();
     // The sample choices crossed with everything else: explicit splits, presets, or the
     // one choice of --preset / --directions / --steps (no label suffix).
     let choices: Vec<SampleChoice> = if !a.splits.is_empty() {
@@ -49,10 +58,10 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
         vec![SampleChoice::Given]
     };
     for &e in &a.estimators {
-        for (&m, choice) in a
+        for (&m, (choice_index, choice)) in a
             .modes
             .iter()
-            .flat_map(|m| choices.iter().map(move |c| (m, c)))
+            .flat_map(|m| choices.iter().enumerate().map(move |c| (m, c)))
         {
             let (estimator, mode): (Estimator, AoMode) = (e.into(), m.into());
             let base = AoOptions {
@@ -93,6 +102,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                         let o = samples(AoOptions { denoise, ..base });
                         variants.push((label, o));
                         scales.push(1.0);
+                        choice_of.push(choice_index);
                         continue;
                     }
                     for &downsample in &a.downsamples {
@@ -115,6 +125,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                             }
                             variants.push((label, o));
                             scales.push(1.0);
+                            choice_of.push(choice_index);
                         }
                     }
                 }
@@ -139,6 +150,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                     }
                     variants.push((label, o));
                     scales.push(scale);
+                    choice_of.push(choice_index);
                 }
             }
         }
@@ -157,9 +169,13 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     // Each thickness prior (bitmask) and march exponent (GTAO, bitmask) crossed with those
     // estimators' variants ("tT", "eE" after the estimator's name when more than one is
     // given); other estimators run once.
-    let mut single: Vec<(String, AoOptions, f32, f32)> = Vec::new();
+    let mut single: Vec<(String, AoOptions, f32, f32, SampleKey)> = Vec::new();
     let (priors, exponents) = (a.priors(), a.exponents());
-    for ((label, o), scale) in variants.drain(..).zip(scales.drain(..)) {
+    for (((label, o), scale), choice) in variants
+        .drain(..)
+        .zip(scales.drain(..))
+        .zip(choice_of.drain(..))
+    {
         let marches = matches!(o.estimator, Estimator::Gtao | Estimator::Bitmask);
         let thick = o.estimator == Estimator::Bitmask;
         let priors = if thick {
@@ -187,26 +203,32 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                     march_exponent: exponent,
                     ..o
                 };
-                single.push((label, o, scale, thickness));
+                let named = if marches && !a.march_exponents.is_empty() {
+                    exponent.to_bits()
+                } else {
+                    0
+                };
+                single.push((label, o, scale, thickness, (choice, named)));
             }
         }
     }
     let mut frames_of: Vec<u32> = Vec::new();
     let mut thickness_of: Vec<f32> = Vec::new();
     let mut guard_of: Vec<u32> = Vec::new();
+    let mut samples_of: Vec<SampleKey> = Vec::new();
     // Each full-resolution bitmask variant with a finite prior, with a second layer too.
     if a.second_layer {
-        for (label, o, scale, thickness) in std::mem::take(&mut single) {
+        for (label, o, scale, thickness, samples) in std::mem::take(&mut single) {
             let layered = o.estimator == Estimator::Bitmask
                 && o.resolution == Resolution::Full
                 && thickness.is_finite();
-            single.push((label.clone(), o, scale, thickness));
+            single.push((label.clone(), o, scale, thickness, samples));
             if layered {
                 let o = AoOptions {
                     second_layer: true,
                     ..o
                 };
-                single.push((format!("{label} L2"), o, scale, thickness));
+                single.push((format!("{label} L2"), o, scale, thickness, samples));
             }
         }
         if !single.iter().any(|s| s.1.second_layer) {
@@ -217,7 +239,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     }
     for &f in &counts {
         for &guard in &a.guards() {
-            for (label, o, scale, thickness) in &single {
+            for (label, o, scale, thickness, samples) in &single {
                 let (mut label, mut o) = (label.clone(), *o);
                 if f > 1 {
                     o.history = a.history;
@@ -231,6 +253,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                 frames_of.push(f);
                 thickness_of.push(*thickness);
                 guard_of.push(guard);
+                samples_of.push(*samples);
             }
         }
     }
@@ -241,6 +264,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
         thickness_of,
         frames_of,
         guard_of,
+        samples_of,
         orbit_frames,
     })
 }

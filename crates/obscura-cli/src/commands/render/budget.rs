@@ -26,7 +26,7 @@ use crate::timing::frame_ms;
 /// is measured, for GTAO in the default 2×2 layout with the spatial denoiser (mean RMSE
 /// against ray-traced AO over the shared views; docs/frontier.md, docs/sample-reuse.md):
 /// half low 0.1033, medium 0.1006, high 0.0915, ultra 0.0907; full low 0.0831, medium
-/// 0.0704, high 0.0605, ultra 0.0565. Full resolution at the low preset beats half at the
+/// 0.0704, high 0.0584 (3 × 5 crowded; 0.0605 with 4 × 4 before), ultra 0.0565. Full resolution at the low preset beats half at the
 /// ultra one, so resolution comes before samples; quarter resolution (not in those tables)
 /// goes below half. The levels' costs are measured on the first view, not assumed. The
 /// order is GTAO's; other estimators take the same order by principle (resolution first,
@@ -73,7 +73,7 @@ pub fn orbit(mut orbit: Orbit, base: AoOptions, params: &AoParams, budget_ms: f6
     let input = first.ao_input(cam, a.normals == NormalSource::Gbuffer);
     let mut levels = Vec::with_capacity(LADDER.len());
     for (resolution, preset) in LADDER {
-        let mut ao = ao_at(ctx, base, resolution, preset)?;
+        let mut ao = ao_at(ctx, base, a.march_exponent, resolution, preset)?;
         ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, params))?;
         levels.push(ao);
     }
@@ -347,7 +347,13 @@ pub fn orbit_joint(
     let mut scaled = Ao::new(&ctx.device, scaled_options(a, base))?;
     let mut rungs = Vec::with_capacity(JOINT_RUNGS.len());
     for preset in JOINT_RUNGS {
-        rungs.push(ao_at(ctx, base, Resolution::Full, preset)?);
+        rungs.push(ao_at(
+            ctx,
+            base,
+            a.march_exponent,
+            Resolution::Full,
+            preset,
+        )?);
     }
     // Everything compiled and its textures created on the first view, then timed there
     // (median of three interleaved runs): the rungs' costs and the scaled AO's cost over
@@ -462,7 +468,11 @@ pub fn orbit_joint(
     };
     for (k, (knob, ms)) in frames.iter().enumerate() {
         let _ = match knob {
-            Knob::Scale(s) => writeln!(csv, "{k},scaled,{s:.4},{},{ms:.4}", base_preset(&base)),
+            Knob::Scale(s) => writeln!(
+                csv,
+                "{k},scaled,{s:.4},{},{ms:.4}",
+                base_preset(scaled.options())
+            ),
             Knob::Level(l) => writeln!(
                 csv,
                 "{k},full,1,{},{ms:.4}",
@@ -497,9 +507,19 @@ pub fn orbit_joint(
 }
 
 /// An `Ao` with `base`'s settings at `resolution` and `preset`'s slices, steps and march
-/// exponent there.
-fn ao_at(ctx: &GpuContext, base: AoOptions, resolution: Resolution, preset: Preset) -> Result<Ao> {
+/// exponent there (`exponent`, --march-exponent, when given).
+fn ao_at(
+    ctx: &GpuContext,
+    base: AoOptions,
+    exponent: Option<f32>,
+    resolution: Resolution,
+    preset: Preset,
+) -> Result<Ao> {
     let o = AoOptions { resolution, ..base }.with_preset(preset);
+    let o = AoOptions {
+        march_exponent: exponent.unwrap_or(o.march_exponent),
+        ..o
+    };
     Ok(Ao::new(&ctx.device, o)?)
 }
 
