@@ -491,7 +491,9 @@ pub struct AoOptions {
     /// it (depth peeling with a minimum separation, Mara, McGuire, Nowrouzezahrai & Luebke
     /// 2016, "Deep G-Buffers"). The bitmask estimator reads it where the first layer hides
     /// it, each layer a solid [`AoParams::thickness`] deep, so what stands behind a thin
-    /// foreground object occludes too (docs/thickness.md). Every frame must then give one.
+    /// foreground object occludes too (docs/thickness.md). With a second layer a thinner
+    /// prior than the one-layer default measured better: 0.75 (the layer behind now stands
+    /// for what the prior stood for alone). Every frame must then give one.
     /// [`Estimator::Bitmask`] at [`Resolution::Full`] only (any layout, denoiser, history,
     /// bent normals). Default `false`.
     pub second_layer: bool,
