@@ -761,8 +761,8 @@ fn eval_writes_report_json_and_caches_the_reference() {
 
 /// Below full resolution a variant is compared with the full-resolution one of the same
 /// preset, although High's counts differ there (3 × 5 crowded at full resolution in the
-/// 2×2 layout, 4 × 4 even at half): its "RMSE vs full res" is a number, and it is 0 only
-/// for a full-resolution variant's own row (which has none).
+/// 2×2 layout, 4 × 4 even at half): its "RMSE vs full res" is a number; the
+/// full-resolution variant's own row has none.
 #[test]
 fn eval_compares_half_resolution_with_the_same_presets_full_resolution() {
     let d = scratch("eval-full-of");
@@ -793,19 +793,9 @@ fn eval_compares_half_resolution_with_the_same_presets_full_resolution() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    let record = |variant: &str| {
-        v["records"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|r| r["variant"] == variant)
-            .unwrap_or_else(|| panic!("no `{variant}` in {v}"))
-            .clone()
-    };
-    let half = record("gtao deinterleaved2 half checkerboard bilateral");
-    let full = record("gtao deinterleaved2");
+    let v = read_json(&json);
+    let half = record(&v, "gtao deinterleaved2 half checkerboard bilateral");
+    let full = record(&v, "gtao deinterleaved2");
     assert!(full["full_rmse"].is_null(), "{full}");
     let vs_full = half["full_rmse"]
         .as_f64()
