@@ -33,8 +33,9 @@ pub(super) struct Variants {
     pub(super) frames_of: Vec<u32>,
     /// Each variant's guard band, pixels (`AoInput::guard_band`).
     pub(super) guard_of: Vec<u32>,
-    /// Each variant's sample choice. Variants at other resolutions compare with the full-resolution one of the same choice, whose counts
-    /// may differ (a preset's follow the lattice, `AoOptions::with_preset`).
+    /// Each variant's sample choice. Variants at other resolutions compare with the
+    /// full-resolution one of the same choice, whose counts may differ (a preset's follow
+    /// the lattice, `AoOptions::with_preset`).
     pub(super) samples_of: Vec<SampleKey>,
     /// The longest frame count: the orbit's length.
     pub(super) orbit_frames: u32,
