@@ -626,6 +626,50 @@ fn bench_writes_table_json_and_plot() {
 }
 
 #[test]
+fn bench_times_a_guard_band_and_a_second_layer() {
+    let d = scratch("bench-layers");
+    let json = d.join("l.json");
+    let out = obscura(&[
+        "bench",
+        "--compare",
+        "layers",
+        "--estimator",
+        "bitmask",
+        "--guard-band",
+        "8",
+        "--resolutions",
+        "64x36",
+        "--radii",
+        "8",
+        "--runs",
+        "1",
+        "--json",
+        s(&json),
+    ]);
+    // obscura refuses a second layer it was not asked for, and asks for one the options
+    // want: a variant handed the wrong G-buffer fails the run.
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v = read_json(&json);
+    let names: Vec<&str> = v["records"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["variant"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "one-layer",
+            "guard-band",
+            "second-layer",
+            "second-layer+guard-band"
+        ]
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
 fn bench_rejects_bad_lists() {
     for args in [
         &["bench", "--radii", "0"][..],
@@ -633,6 +677,8 @@ fn bench_rejects_bad_lists() {
         &["bench", "--resolutions", "640"][..],
         &["bench", "--resolutions", "0x10"][..],
         &["bench", "--plot", "/no/such/dir/p.svg"][..],
+        &["bench", "--compare", "layers", "--msaa"][..],
+        &["bench", "--compare", "layers", "--guard-band", "0"][..],
     ] {
         let out = obscura(args);
         let err = String::from_utf8_lossy(&out.stderr);

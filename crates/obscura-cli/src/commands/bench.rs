@@ -6,11 +6,13 @@
 
 use crate::options::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use crate::output::{check_png_path, fmt_ms, write_text};
-use crate::timing::median;
+use crate::timing::{median, warm_up};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use obscura::{Ao, AoMode, AoOptions, AoParams, Denoise, GpuContext, Resolution, Timing};
-use obscura_scene::{default_scene, GBufferRenderer};
+use obscura::{
+    Ao, AoMode, AoOptions, AoParams, Denoise, Estimator, GpuContext, Resolution, Timing,
+};
+use obscura_scene::{default_scene, DepthLayer, GBuffer, GBufferRenderer, GpuMesh};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -26,6 +28,12 @@ pub enum Compare {
     /// Sample reuse in the chosen layout and resolution: no denoising (the baseline), the
     /// spatial denoiser, and the denoiser with temporal accumulation (history 16).
     Reuse,
+    /// Depth beyond one layer, in the chosen layout and resolution: one layer (the
+    /// baseline) and a guard band of --guard-band pixels; with `--estimator bitmask` (the
+    /// estimator that reads one) also a second depth layer peeled at the thickness prior
+    /// behind the first (`AoOptions::second_layer`), alone and with the band. The peel
+    /// itself is the renderer's and is not timed.
+    Layers,
 }
 
 #[derive(Debug, Args)]
@@ -57,6 +65,9 @@ pub struct BenchArgs {
     /// are then reconstructed, whatever --normals says).
     #[arg(long)]
     pub msaa: bool,
+    /// With --compare layers: the guard band's width in pixels on each side.
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub guard_band: u32,
     /// Write machine-readable results here (one record per variant, resolution and radius).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -76,6 +87,57 @@ struct Record {
     ratio: f64,
 }
 
+/// The G-buffers `--compare layers` times, in its variants' order: the view alone, the
+/// view with a guard band, and each with its second layer peeled behind it.
+struct LayerInputs {
+    camera: obscura_scene::Camera,
+    plain: GBuffer,
+    guarded: GBuffer,
+    plain_second: DepthLayer,
+    guarded_second: DepthLayer,
+}
+
+impl LayerInputs {
+    fn render(
+        ctx: &GpuContext,
+        raster: &GBufferRenderer,
+        mesh: &GpuMesh,
+        size: (u32, u32),
+        band: u32,
+        separation: f32,
+    ) -> Result<Self> {
+        let camera = default_scene::camera();
+        let plain = raster.render_guarded(ctx, mesh, &camera, size, 0)?;
+        let guarded = raster.render_guarded(ctx, mesh, &camera, size, band)?;
+        let plain_second = raster.peel(ctx, mesh, &camera, &plain, separation)?;
+        let guarded_second = raster.peel(ctx, mesh, &camera, &guarded, separation)?;
+        Ok(Self {
+            camera,
+            plain,
+            guarded,
+            plain_second,
+            guarded_second,
+        })
+    }
+
+    fn inputs(&self, with_normals: bool) -> Vec<obscura::AoInput<'_>> {
+        let plain = self.plain.ao_input(&self.camera, with_normals);
+        let guarded = self.guarded.ao_input(&self.camera, with_normals);
+        vec![
+            plain,
+            guarded,
+            obscura::AoInput {
+                second_layer: Some(&self.plain_second.view),
+                ..plain
+            },
+            obscura::AoInput {
+                second_layer: Some(&self.guarded_second.view),
+                ..guarded
+            },
+        ]
+    }
+}
+
 fn variants(base: AoOptions, compare: Compare) -> Vec<(String, AoOptions)> {
     let mut v = Vec::new();
     if compare == Compare::Reuse {
@@ -89,6 +151,26 @@ fn variants(base: AoOptions, compare: Compare) -> Vec<(String, AoOptions)> {
                 AoOptions {
                     denoise,
                     history,
+                    ..base
+                },
+            ));
+        }
+        return v;
+    }
+    if compare == Compare::Layers {
+        for (name, second_layer) in [
+            ("one-layer", false),
+            ("guard-band", false),
+            ("second-layer", true),
+            ("second-layer+guard-band", true),
+        ] {
+            if second_layer && base.estimator != Estimator::Bitmask {
+                continue;
+            }
+            v.push((
+                name.to_string(),
+                AoOptions {
+                    second_layer,
                     ..base
                 },
             ));
@@ -162,6 +244,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }
+    if a.msaa && a.compare == Compare::Layers {
+        bail!("--compare layers rasterizes its own layers: it does not take --msaa");
+    }
     // Every compared layout and resolution takes the base's samples.
     let base = a.quality.samples.apply(a.resolution.apply(AoOptions {
         estimator: a.quality.estimator.into(),
@@ -177,7 +262,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let timing = Timing::best_for(&ctx);
     eprintln!("adapter: {}; timing: {timing:?}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
-    let mesh = raster.upload(&ctx, &default_scene::mesh())?;
+    let scene = default_scene::mesh();
+    let mesh = raster.upload(&ctx, &scene)?;
+    // --compare layers peels at the default thickness prior times render's default radius
+    // (3% of the scene's diagonal): the second layer a renderer would hand over.
+    let separation =
+        AoParams::default().thickness * 0.03 * scene.bounds().map_or(1.0, |b| b.diagonal());
     let cam = default_scene::camera();
     let mut aos: Vec<Ao> = variants
         .iter()
@@ -187,14 +277,18 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let total = resolutions.len() * radii.len();
     let mut cell = 0;
     for &(w, h) in &resolutions {
-        let (g, ms);
-        let input = if a.msaa {
+        let (g, ms, layers);
+        let mut inputs = Vec::new();
+        if a.msaa {
             ms = raster.render_msaa_depth(&ctx, &mesh, &cam, w, h)?;
-            ms.ao_input(&cam)
+            inputs.push(ms.ao_input(&cam));
+        } else if a.compare == Compare::Layers {
+            layers = LayerInputs::render(&ctx, &raster, &mesh, (w, h), a.guard_band, separation)?;
+            inputs = layers.inputs(a.normals == NormalSource::Gbuffer);
         } else {
             g = raster.render(&ctx, &mesh, &cam, w, h)?;
-            g.ao_input(&cam, a.normals == NormalSource::Gbuffer)
-        };
+            inputs.push(g.ao_input(&cam, a.normals == NormalSource::Gbuffer));
+        }
         for &r in &radii {
             cell += 1;
             let params = AoParams {
@@ -203,8 +297,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
                 scale: a.resolution.scale,
                 ..Default::default()
             };
-            let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];
-            for round in 0..=a.runs {
+            // One round of every variant, timed per pass.
+            let round = |aos: &mut [Ao]| -> Result<Vec<Vec<(&'static str, f64)>>> {
+                let mut t = Vec::with_capacity(aos.len());
                 for (i, ao) in aos.iter_mut().enumerate() {
                     // `--compare resolutions` runs the fixed resolutions, at scale 1.
                     let scaled = ao.options().resolution == Resolution::Scaled;
@@ -212,10 +307,17 @@ pub fn run(a: &BenchArgs) -> Result<()> {
                         scale: if scaled { params.scale } else { 1.0 },
                         ..params
                     };
-                    let t = ao.run_timed(&ctx, &input, &params, timing)?;
-                    if round > 0 {
-                        times[i].push(t);
-                    }
+                    // One input for all variants, or one each (--compare layers).
+                    let input = &inputs[i.min(inputs.len() - 1)];
+                    t.push(ao.run_timed(&ctx, input, &params, timing)?);
+                }
+                Ok(t)
+            };
+            warm_up(timing, || round(&mut aos).map(drop))?;
+            let mut times: Vec<Vec<Vec<(&'static str, f64)>>> = vec![Vec::new(); aos.len()];
+            for _ in 0..a.runs {
+                for (i, t) in round(&mut aos)?.into_iter().enumerate() {
+                    times[i].push(t);
                 }
             }
             let medians: Vec<f64> = times
@@ -317,11 +419,12 @@ fn table(records: &[Record], variants: &[(String, AoOptions)]) -> String {
 fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs, base: &AoOptions) -> String {
     let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
     let mut s = format!(
-        "{{\n  \"adapter\": \"{}\",\n  \"estimator\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"runs\": {},\n  \"records\": [\n",
+        "{{\n  \"adapter\": \"{}\",\n  \"estimator\": \"{}\",\n  \"directions\": {},\n  \"steps\": {},\n  \"march_exponent\": {},\n  \"runs\": {},\n  \"records\": [\n",
         esc(&ctx.describe()),
         base.estimator.name(),
         base.directions,
         base.steps,
+        base.march_exponent,
         a.runs
     );
     for (i, r) in records.iter().enumerate() {

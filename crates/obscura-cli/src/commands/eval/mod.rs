@@ -35,7 +35,7 @@ use variants::{thickness_label, variant_list, Variants};
 use crate::options::NormalSource;
 use crate::output::{check_png_path, fmt_ms, write_text};
 use crate::progress::tenths;
-use crate::timing::{frame_ms, median};
+use crate::timing::{frame_ms, median, warm_up};
 use crate::views::{camera_for, Job};
 use anyhow::{bail, Context, Result};
 use obscura::{Ao, AoInput, AoOptions, AoParams, Estimator, GpuContext, Resolution, Timing};
@@ -306,12 +306,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let input_of = |i: usize| layered(guard_of[i], thickness_of[i], variants[i].1.second_layer);
         let mut times = vec![Vec::new(); aos.len()];
         let timing = Timing::best_for(&ctx);
-        for round in 0..=a.runs {
+        warm_up(timing, || {
             for (i, ao) in aos.iter_mut().enumerate() {
-                let ms = frame_ms(&ctx, ao, &input_of(i), &of_variant(i), timing)?;
-                if round > 0 {
-                    times[i].push(ms);
-                }
+                frame_ms(&ctx, ao, &input_of(i), &of_variant(i), timing)?;
+            }
+            Ok(())
+        })?;
+        for _ in 0..a.runs {
+            for (i, ao) in aos.iter_mut().enumerate() {
+                times[i].push(frame_ms(&ctx, ao, &input_of(i), &of_variant(i), timing)?);
             }
         }
         let gpu_depth = ctx.read_f32(&g.depth)?;
