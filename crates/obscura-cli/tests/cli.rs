@@ -628,7 +628,7 @@ fn bench_writes_table_json_and_plot() {
 #[test]
 fn bench_times_a_guard_band_and_a_second_layer() {
     let d = scratch("bench-layers");
-    let json = d.join("l.json");
+    let (json, plot) = (d.join("l.json"), d.join("l.svg"));
     let out = obscura(&[
         "bench",
         "--compare",
@@ -645,6 +645,8 @@ fn bench_times_a_guard_band_and_a_second_layer() {
         "1",
         "--json",
         s(&json),
+        "--plot",
+        s(&plot),
     ]);
     // obscura refuses a second layer it was not asked for, and asks for one the options
     // want: a variant handed the wrong G-buffer fails the run.
@@ -666,6 +668,16 @@ fn bench_times_a_guard_band_and_a_second_layer() {
             "second-layer+guard-band"
         ]
     );
+    // All four are 2×2 fused: the plot tells them apart by colour, one each.
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    let mut strokes: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with("<polyline"))
+        .filter_map(|l| l.split("stroke=\"").nth(1))
+        .collect();
+    strokes.sort_unstable();
+    strokes.dedup();
+    assert_eq!(strokes.len(), 4, "{svg}");
     std::fs::remove_dir_all(d).unwrap();
 }
 

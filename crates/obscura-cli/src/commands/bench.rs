@@ -452,12 +452,27 @@ fn json(records: &[Record], ctx: &GpuContext, a: &BenchArgs, base: &AoOptions) -
 
 /// One panel per resolution: time (ms, from 0) against radius (px, log scale), a line per variant.
 fn svg(records: &[Record], variants: &[(String, AoOptions)], resolutions: &[(u32, u32)]) -> String {
-    // Colour by split factor; unfused variants dashed.
-    let style = |o: &AoOptions| {
-        let color = match o.mode.split() {
-            1 => "#222222",
-            2 => "#1f77b4",
-            _ => "#e6730f",
+    // Colour by split factor where that tells the variants apart (--compare layouts), else
+    // by variant; unfused variants dashed.
+    let by_split = {
+        let mut keys: Vec<(u32, bool)> = variants
+            .iter()
+            .map(|v| (v.1.mode.split(), v.1.fused))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        keys.len() == variants.len()
+    };
+    const PALETTE: [&str; 4] = ["#222222", "#1f77b4", "#e6730f", "#2ca02c"];
+    let style = |vi: usize, o: &AoOptions| {
+        let color = if by_split {
+            match o.mode.split() {
+                1 => PALETTE[0],
+                2 => PALETTE[1],
+                _ => PALETTE[2],
+            }
+        } else {
+            PALETTE[vi % PALETTE.len()]
         };
         let dash = if o.fused {
             ""
@@ -521,7 +536,7 @@ fn svg(records: &[Record], variants: &[(String, AoOptions)], resolutions: &[(u32
                 py(t) + 4.0
             );
         }
-        for (name, o) in variants {
+        for (vi, (name, o)) in variants.iter().enumerate() {
             let pts: Vec<String> = cells
                 .iter()
                 .filter(|r| &r.variant == name)
@@ -531,7 +546,7 @@ fn svg(records: &[Record], variants: &[(String, AoOptions)], resolutions: &[(u32
                 s,
                 "<polyline points=\"{}\" fill=\"none\" {} stroke-width=\"2\"/>",
                 pts.join(" "),
-                style(o)
+                style(vi, o)
             );
         }
     }
@@ -543,7 +558,7 @@ fn svg(records: &[Record], variants: &[(String, AoOptions)], resolutions: &[(u32
     );
     for (vi, (name, o)) in variants.iter().enumerate() {
         let y = m + ph + 50.0 + 18.0 * vi as f64;
-        let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" {} stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{name}</text>", m + 30.0, style(o), m + 38.0, y + 4.0);
+        let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" {} stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{name}</text>", m + 30.0, style(vi, o), m + 38.0, y + 4.0);
     }
     s.push_str("</svg>\n");
     s
