@@ -50,6 +50,21 @@ pub(crate) fn frame_ms(
     })
 }
 
+/// Frames timed pass by pass (each [`Ao::run_timed`]'s labels and milliseconds): the
+/// median of their sums, and each pass's median (NaN and none without frames).
+pub(crate) fn pass_medians(runs: &[Vec<(&'static str, f64)>]) -> (f64, Vec<(&'static str, f64)>) {
+    let Some(first) = runs.first() else {
+        return (f64::NAN, Vec::new());
+    };
+    let total = median(runs.iter().map(|p| p.iter().map(|x| x.1).sum()).collect());
+    let passes = first
+        .iter()
+        .enumerate()
+        .map(|(k, (label, _))| (*label, median(runs.iter().map(|p| p[k].1).collect())))
+        .collect();
+    (total, passes)
+}
+
 /// The median of `v` (the upper middle value of an even count).
 pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -59,6 +74,22 @@ pub(crate) fn median(mut v: Vec<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pass_medians_are_medians_of_the_sums_and_of_each_pass() {
+        // Three frames of two passes; the sums are 3, 12 and 6, so the median frame is 6
+        // though no frame has both median passes (2 and 4).
+        let runs = vec![
+            vec![("a", 1.0), ("b", 2.0)],
+            vec![("a", 2.0), ("b", 10.0)],
+            vec![("a", 5.0), ("b", 1.0)],
+        ];
+        let (total, passes) = pass_medians(&runs);
+        assert_eq!(total, 6.0);
+        assert_eq!(passes, [("a", 2.0), ("b", 2.0)]);
+        let (total, passes) = pass_medians(&[]);
+        assert!(total.is_nan() && passes.is_empty());
+    }
 
     #[test]
     fn warm_up_runs_once_on_cpu_adapters_and_a_second_on_gpus() {

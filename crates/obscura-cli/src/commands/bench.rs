@@ -6,7 +6,7 @@
 
 use crate::options::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use crate::output::{check_png_path, fmt_ms, write_text};
-use crate::timing::{median, warm_up};
+use crate::timing::{pass_medians, warm_up};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use obscura::{
@@ -320,34 +320,24 @@ pub fn run(a: &BenchArgs) -> Result<()> {
                     times[i].push(t);
                 }
             }
-            let medians: Vec<f64> = times
-                .iter()
-                .map(|runs| median(runs.iter().map(|p| p.iter().map(|x| x.1).sum()).collect()))
-                .collect();
-            let base = medians[0];
+            let summaries: Vec<_> = times.iter().map(|runs| pass_medians(runs)).collect();
+            let base = summaries[0].0;
             let mut line = format!("[{cell}/{total}] {w}x{h} radius {r} px:");
-            for (i, (name, _)) in variants.iter().enumerate() {
-                let passes = times[i][0]
-                    .iter()
-                    .enumerate()
-                    .map(|(k, (label, _))| {
-                        (*label, median(times[i].iter().map(|p| p[k].1).collect()))
-                    })
-                    .collect();
+            for ((name, _), (median_ms, passes)) in variants.iter().zip(summaries) {
                 let _ = write!(
                     line,
                     " {name} {} ms ({:.2}x)",
-                    fmt_ms(medians[i]),
-                    base / medians[i]
+                    fmt_ms(median_ms),
+                    base / median_ms
                 );
                 records.push(Record {
                     variant: name.clone(),
                     width: w,
                     height: h,
                     radius_px: r,
-                    median_ms: medians[i],
+                    median_ms,
                     passes,
-                    ratio: medians[i] / base,
+                    ratio: median_ms / base,
                 });
             }
             eprintln!("{line}");

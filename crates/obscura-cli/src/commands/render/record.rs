@@ -2,9 +2,10 @@
 //! then `--runs` timed single frames or `--frames` accumulated ones, and their times.
 
 use super::args::RenderArgs;
-use crate::timing::median;
+use crate::output::fmt_ms;
+use crate::timing::{median, pass_medians, warm_up};
 use anyhow::{Context, Result};
-use obscura::{Ao, AoParams, GpuContext};
+use obscura::{Ao, AoParams, GpuContext, Timing};
 use std::time::Instant;
 
 /// Records one warm-up frame (shader compilation), then `--runs` timed single frames or
@@ -48,7 +49,44 @@ pub(crate) fn record_timed(
             median(times),
             a.runs
         );
+        gpu_time(a, ctx, ao, input, params)?;
     }
     let out = ao.output().context("AO output missing after a run")?;
     Ok(ctx.read_f32(out)?)
+}
+
+/// On hardware adapters, single frames are also timed by GPU timestamps, pass by pass,
+/// after [`crate::timing::GPU_WARM_UP`]: the wall clock there adds submission and wake-up
+/// latency (0.2–0.35 ms on an H200, BENCHMARKS.md). Nothing on CPU adapters, whose
+/// timestamps do not bracket dispatches.
+fn gpu_time(
+    a: &RenderArgs,
+    ctx: &GpuContext,
+    ao: &mut Ao,
+    input: &obscura::AoInput<'_>,
+    params: &AoParams,
+) -> Result<()> {
+    let timing = Timing::best_for(ctx);
+    if timing != Timing::Timestamps {
+        return Ok(());
+    }
+    warm_up(timing, || {
+        ao.run_timed(ctx, input, params, timing)?;
+        Ok(())
+    })?;
+    let runs = (0..a.runs)
+        .map(|_| ao.run_timed(ctx, input, params, timing))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (total, passes) = pass_medians(&runs);
+    let passes: Vec<String> = passes
+        .iter()
+        .map(|(label, ms)| format!("{label} {}", fmt_ms(*ms)))
+        .collect();
+    eprintln!(
+        "ao: median {} ms of GPU time over {} runs (timestamps: {})",
+        fmt_ms(total),
+        a.runs,
+        passes.join(", ")
+    );
+    Ok(())
 }
