@@ -13,7 +13,7 @@ use super::timing::PassCall;
 use super::validate::{depth_binding, validate};
 // The types of `Ao`'s signatures, also at this module's path (`obscura::ao::AoInput`).
 pub use super::{resources::ResourceCount, timing::Timing, validate::AoInput};
-use crate::gpu::pipeline::{compile, uniform_buffer, Compiled, ErrorScope};
+use crate::gpu::pipeline::{compile, compile_with, uniform_buffer, Compiled, ErrorScope};
 use crate::passes::shader::{dispatch_size, DepthBinding, Pass};
 use crate::passes::uniforms::FrameUniforms;
 use crate::{AoOptions, AoParams, Error, Resolution, Result};
@@ -37,8 +37,9 @@ pub struct Ao {
     max_dim: u32,
     pub(super) sized: Option<SizedResources>,
     pub(super) resolve: Option<Resolve>,
-    /// The guard band's crop, compiled on the first frame with a guard band.
-    crop: Option<Compiled>,
+    /// The output step's pass with `CROPS` (passes/output.wgsl), compiled on the first
+    /// frame with a guard band: it stores the viewport alone.
+    output_crops: Option<Compiled>,
     created: ResourceCount,
     pub(super) temporal: TemporalState,
 }
@@ -95,7 +96,7 @@ impl Ao {
             max_dim: device.limits().max_texture_dimension_2d,
             sized: None,
             resolve: None,
-            crop: None,
+            output_crops: None,
             created,
             temporal: TemporalState::default(),
         })
@@ -217,19 +218,21 @@ impl Ao {
             inputs,
             &mut self.created,
         )?;
-        if sized.crop.is_some() && self.crop.is_none() {
+        // With a guard band the output step stores the viewport alone.
+        let banded = frame.size != frame.output_size;
+        if banded && self.output_crops.is_none() {
+            let Some(pass) = self.plan.output_step().map(|i| self.plan.steps[i].pass) else {
+                return Err(Error::Gpu("output step missing".into()));
+            };
+            let mut constants = pass.constants(&self.options);
+            constants.push(("CROPS", 1.0));
             let scope = ErrorScope::push(device);
-            let compiled = compile(device, Pass::Crop, &self.options);
-            scope.pop("compiling the guard band's crop")?;
-            self.crop = Some(compiled);
+            let compiled = compile_with(device, pass, &constants);
+            scope.pop("compiling the output pass that drops a guard band")?;
+            self.output_crops = Some(compiled);
         }
-        let (output_bind, crop_bind) = sized.bind_output(
-            device,
-            &self.plan,
-            shared,
-            (input.output, self.crop.as_ref()),
-            &mut self.created,
-        )?;
+        let output_bind =
+            sized.bind_output(device, &self.plan, shared, input.output, &mut self.created)?;
         let p = parity as usize;
         let mut passes = Vec::with_capacity(sized.later.len() + 2);
         if let (true, Some(r)) = (multisampled, &self.resolve) {
@@ -244,13 +247,13 @@ impl Ao {
             prepare_bind,
             sized.prepare_dispatch.at(work.size, n),
         ));
-        for (i, bg, d) in &sized.later {
+        for (k, (i, bg, d)) in sized.later.iter().enumerate() {
             let bg = bg.as_ref().unwrap_or(&output_bind)[p].clone();
-            passes.push((&self.later[*i], bg, d.at(work.size, n)));
-        }
-        if let (Some(c), Some(bg)) = (&self.crop, crop_bind) {
-            let (x, y) = dispatch_size(frame.output_size);
-            passes.push((c, bg, [x, y, 1]));
+            let c = match &self.output_crops {
+                Some(c) if banded && k == sized.output_step.0 => c,
+                _ => &self.later[*i],
+            };
+            passes.push((c, bg, d.at(work.size, n)));
         }
         Ok(passes)
     }

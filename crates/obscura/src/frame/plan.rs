@@ -324,6 +324,13 @@ impl Plan {
             .iter()
             .position(|st| st.views.iter().any(|v| v.1 == Res::Output))
     }
+
+    /// Whether the output step can store the viewport alone with a guard band
+    /// (passes/output.wgsl): true of every plan (plan_tests.rs checks).
+    pub fn output_crops(&self) -> bool {
+        self.output_step()
+            .is_some_and(|i| self.steps[i].pass.crops_output())
+    }
 }
 
 /// A pass's workgroup counts: fixed by the frame size, or taken from each frame's working

@@ -54,6 +54,12 @@ fn check_consistent(p: &Plan, size: [u32; 2]) {
         "one step writes the output: {:?}",
         labels(p)
     );
+    // With a guard band the output step stores the viewport alone: there is no crop pass.
+    assert!(
+        p.output_crops(),
+        "the output step cannot crop: {:?}",
+        labels(p)
+    );
     for r in textures {
         let s = p.spec(r, size).expect("every created texture has a spec");
         assert!(

@@ -166,18 +166,6 @@ pub(crate) struct PrepareInputs<'a> {
     pub fit: bool,
 }
 
-/// The guard band's crop ([`Pass::Crop`]): the output pass writes `framed` (the processed
-/// rectangle's AO), and the crop copies the viewport out of it.
-#[derive(Debug)]
-pub(crate) struct Crop {
-    /// Kept with its view.
-    pub _texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
-    /// The crop's bind group for the output view it binds (kept while the caller passes
-    /// the same view).
-    pub binding: Option<(wgpu::TextureView, wgpu::BindGroup)>,
-}
-
 /// Textures and bind groups that depend on the viewport size.
 #[derive(Debug)]
 pub(crate) struct SizedResources {
@@ -185,8 +173,6 @@ pub(crate) struct SizedResources {
     pub size: [u32; 2],
     /// The output's size: the viewport's.
     pub output_size: [u32; 2],
-    /// With a guard band: where the output pass writes, and the crop's binding.
-    pub crop: Option<Crop>,
     /// Every texture of the plan, by name.
     pub textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)>,
     /// Workgroups of the prepare pass (over pixels, or over layer texels when it splits).
@@ -231,24 +217,6 @@ impl SizedResources {
         created: &mut ResourceCount,
     ) -> Result<Self> {
         let scope = ErrorScope::push(device);
-        let crop = (size != output_size).then(|| {
-            let texture = make_texture(
-                device,
-                "obscura ao framed",
-                (size[0], size[1]),
-                1,
-                1,
-                AO_FORMAT,
-            );
-            let view = texture.create_view(&Default::default());
-            created.textures += 1;
-            created.texture_views += 1;
-            Crop {
-                _texture: texture,
-                view,
-                binding: None,
-            }
-        });
         let textures: Vec<(Res, wgpu::Texture, wgpu::TextureView)> = plan
             .textures()
             .into_iter()
@@ -377,7 +345,6 @@ impl SizedResources {
         let sized = SizedResources {
             size,
             output_size,
-            crop,
             textures,
             prepare_dispatch: plan.prepare_dispatch(size),
             later,
@@ -441,17 +408,16 @@ impl SizedResources {
     }
 
     /// The output pass's bind groups (even and odd frames) for the caller's output view,
-    /// or for the library's own texture (created on the first frame that needs it); with a
-    /// guard band, for the framed texture, and the crop's bind group (`crop`: the compiled
-    /// crop pass) for the output.
+    /// or for the library's own texture (created on the first frame that needs it). With a
+    /// guard band the output pass stores the viewport alone (passes/output.wgsl).
     pub fn bind_output(
         &mut self,
         device: &wgpu::Device,
         plan: &Plan,
         shared: Shared<'_>,
-        (output, crop): (Option<&wgpu::TextureView>, Option<&Compiled>),
+        output: Option<&wgpu::TextureView>,
         created: &mut ResourceCount,
-    ) -> Result<([wgpu::BindGroup; 2], Option<wgpu::BindGroup>)> {
+    ) -> Result<[wgpu::BindGroup; 2]> {
         if output.is_none() && self.own_output.is_none() {
             let scope = ErrorScope::push(device);
             let (w, h) = (self.output_size[0], self.output_size[1]);
@@ -465,24 +431,6 @@ impl SizedResources {
         let out_view = match (output, &self.own_output) {
             (Some(v), _) | (None, Some((_, v))) => v.clone(),
             (None, None) => return Err(Error::Gpu("output texture missing".into())),
-        };
-        let crop_bind = match (&mut self.crop, crop) {
-            (Some(framed), Some(c)) => {
-                if framed.binding.as_ref().map(|b| &b.0) != Some(&out_view) {
-                    let views = [(1, &framed.view), (2, &out_view)];
-                    let bg = bind_group(device, c, shared.uniforms, &views);
-                    created.bind_groups += 1;
-                    framed.binding = Some((out_view.clone(), bg));
-                }
-                framed.binding.as_ref().map(|b| b.1.clone())
-            }
-            (None, _) => None,
-            (Some(_), None) => return Err(Error::Gpu("crop pass missing".into())),
-        };
-        // The output pass writes the output, or with a guard band the framed texture.
-        let out_view = match &self.crop {
-            Some(framed) => framed.view.clone(),
-            None => out_view,
         };
         if self.output_binding.as_ref().map(|b| &b.0) != Some(&out_view) {
             let st = &plan.steps[self.output_step.1];
@@ -510,7 +458,7 @@ impl SizedResources {
             .output_binding
             .as_ref()
             .map(|b| b.1.clone())
-            .ok_or_else(|| Error::Gpu("output bind group missing".into()))?;
-        Ok((groups, crop_bind))
+            .ok_or_else(|| Error::Gpu("output bind group missing".into()));
+        groups
     }
 }

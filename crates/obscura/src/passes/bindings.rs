@@ -249,10 +249,6 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             texture_entry(6, UNFILTERED, D2),
             storage_entry(7, LIT_FORMAT, D2),
         ],
-        Pass::Crop => vec![
-            texture_entry(1, UNFILTERED, D2),
-            storage_entry(2, AO_FORMAT, D2),
-        ],
         Pass::ResolveDepth => vec![
             wgpu::BindGroupLayoutEntry {
                 binding: 1,

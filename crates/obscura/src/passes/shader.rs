@@ -150,9 +150,6 @@ pub enum Pass {
     /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
     /// reads it as a float input).
     ResolveDepth,
-    /// The processed rectangle's AO → the output, when a guard band surrounds the viewport
-    /// ([`crate::AoInput::guard_band`]; passes/crop/crop.wgsl).
-    Crop,
     /// Many-light diffuse shading of the prepared buffer: every light, or with an override
     /// `PERIOD` n > 1 each pixel class of an n × n tile a 1/n² subset ([`crate::lights`]);
     /// `layers`: the prepared buffer as the AO's N×N layers (fused deinterleaved modes).
@@ -226,12 +223,7 @@ impl Pass {
                 }
             }
         }
-        v.extend([
-            Pass::Deinterleave,
-            Pass::Interleave,
-            Pass::ResolveDepth,
-            Pass::Crop,
-        ]);
+        v.extend([Pass::Deinterleave, Pass::Interleave, Pass::ResolveDepth]);
         for source in [
             PyramidSource::Full,
             PyramidSource::Layers,
@@ -295,6 +287,21 @@ impl Pass {
             ]);
         }
         v
+    }
+
+    /// Whether the pass stores through output.wgsl, so that as a frame's output step with
+    /// a guard band it stores the viewport alone (override `CROPS`).
+    pub fn crops_output(self) -> bool {
+        matches!(
+            self,
+            Pass::AoFull { .. }
+                | Pass::AoLayered { merge: true, .. }
+                | Pass::Interleave
+                | Pass::Denoise { .. }
+                | Pass::Temporal { .. }
+                | Pass::Upsample { .. }
+                | Pass::UpsampleScaled
+        )
     }
 
     /// The pass's label.
@@ -385,7 +392,6 @@ impl Pass {
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",
-            Pass::Crop => "crop",
             Pass::LightsShade { layers, packed } => [
                 "lights_shade",
                 "lights_shade_from_layers",
@@ -436,6 +442,8 @@ impl Pass {
         const STORE_PREPARED_FULL: &str = include_str!("prepare/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("prepare/prepare_store_layers.wgsl");
         const STORE_AO_FULL: &str = include_str!("estimators/ao_store_full.wgsl");
+        // The output's store (CROPS), in every pass that can write the output.
+        const OUTPUT: &str = include_str!("output.wgsl");
         const STORE_AO_LAYERS: &str = include_str!("estimators/ao_store_layers.wgsl");
         const PREPARE: &str = include_str!("prepare/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("pyramid/downsample_rule.wgsl");
@@ -527,6 +535,7 @@ impl Pass {
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
+                    OUTPUT,
                     STORE_AO_FULL,
                     ao_bent(bent),
                     include_str!("estimators/ao_full.wgsl"),
@@ -542,6 +551,7 @@ impl Pass {
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
+                    if merge { OUTPUT } else { "" },
                     if merge {
                         STORE_AO_FULL
                     } else {
@@ -555,7 +565,11 @@ impl Pass {
                 STORE_PREPARED_LAYERS,
                 include_str!("layers/deinterleave.wgsl"),
             ],
-            Pass::Interleave => vec![STORE_AO_FULL, include_str!("layers/interleave.wgsl")],
+            Pass::Interleave => vec![
+                OUTPUT,
+                STORE_AO_FULL,
+                include_str!("layers/interleave.wgsl"),
+            ],
             Pass::Pyramid { source } => {
                 vec![pyramid_source(source), include_str!("pyramid/pyramid.wgsl")]
             }
@@ -575,6 +589,7 @@ impl Pass {
                     include_str!("upsample/upsample_bent_none.wgsl")
                 },
                 UPSAMPLE_FOOTPRINT,
+                OUTPUT,
                 include_str!("upsample/upsample.wgsl"),
                 match upsampler {
                     Upsampler::Bilinear => include_str!("upsample/upsample_bilinear.wgsl"),
@@ -587,6 +602,7 @@ impl Pass {
             Pass::UpsampleScaled => vec![
                 include_str!("upsample/upsample_bent_none.wgsl"),
                 UPSAMPLE_FOOTPRINT,
+                OUTPUT,
                 include_str!("upsample/upsample_scaled.wgsl"),
                 UPSAMPLE_BILATERAL,
             ],
@@ -599,6 +615,7 @@ impl Pass {
                     } else {
                         include_str!("denoise/denoise_bent_none.wgsl")
                     },
+                    OUTPUT,
                     include_str!("denoise/denoise.wgsl"),
                 ]
             }
@@ -610,12 +627,12 @@ impl Pass {
                     } else {
                         include_str!("temporal/temporal_bent_none.wgsl")
                     },
+                    OUTPUT,
                     include_str!("temporal/temporal.wgsl"),
                 ]
             }
             Pass::AoDownsample { .. } => vec![include_str!("denoise/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("prepare/resolve_depth.wgsl")],
-            Pass::Crop => vec![include_str!("crop/crop.wgsl")],
             Pass::LightsShade { layers, packed } => [
                 &[prepared_source(layers)][..],
                 &lit_out(false, packed)[..],
@@ -724,7 +741,6 @@ impl Pass {
             Pass::Pyramid { .. }
             | Pass::PyramidLevels
             | Pass::ResolveDepth
-            | Pass::Crop
             | Pass::UpsampleScaled => vec![],
             Pass::Rescale => rule(options.downsample, 1),
             Pass::Upsample {

@@ -91,6 +91,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         ao = clamp(mean - dot(g, m), 0.0, 1.0);
         bent_fit(total, m, vec3<f32>(xx, yy, xy));
     }
-    textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
+    store_output(p, ao);
     bent_store(p, centre.yzw);
 }

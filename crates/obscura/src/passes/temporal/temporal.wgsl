@@ -127,6 +127,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         frames = 0.0;
     }
     textureStore(history_out, p, vec4<f32>(ao, frames, centre.x, pack_normal(centre.yzw)));
-    textureStore(ao_out, p, vec4<f32>(ao, 0.0, 0.0, 0.0));
+    store_output(p, ao);
     bent_finish(p, kept, 1.0 / max(frames, 1.0));
 }

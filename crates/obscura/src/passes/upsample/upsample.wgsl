@@ -67,7 +67,7 @@ fn quadrant(t: vec2<i32>, c: vec2<u32>, a: Texel, b: Texel, e: Texel, f: Texel) 
                 // The weights sum to 1 up to rounding, which must not leave [0, 1].
                 ao = clamp(dot(wts, fp.ao), 0.0, 1.0);
             }
-            textureStore(ao_out, pi, vec4<f32>(ao, 0.0, 0.0, 0.0));
+            store_output(pi, ao);
             upsample_bent(pi, wts, centre, fp);
         }
     }

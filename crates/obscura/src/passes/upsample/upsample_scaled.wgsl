@@ -41,6 +41,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         // The weights sum to 1 up to rounding, which must not leave [0, 1].
         ao = clamp(dot(wts, fp.ao), 0.0, 1.0);
     }
-    textureStore(ao_out, pi, vec4<f32>(ao, 0.0, 0.0, 0.0));
+    store_output(pi, ao);
     upsample_bent(pi, wts, centre, fp);
 }
