@@ -115,8 +115,10 @@ mod tests {
             start.elapsed() >= GPU_WARM_UP,
             "stopped before the warm-up time"
         );
+        // Each round takes at least 50 ms, so 20 of them reach the second (fewer on a
+        // loaded machine, where a sleep overshoots).
         assert!(
-            (20..=25).contains(&rounds),
+            (2..=20).contains(&rounds),
             "{rounds} rounds of 50 ms for 1 s"
         );
 

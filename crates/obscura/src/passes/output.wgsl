@@ -4,7 +4,7 @@
 // grown by the band (`frame.size`), and stores only the viewport's pixels, moved to the
 // output's origin (`frame.output_offset`, `frame.output_size`): the band's AO is computed
 // for the samples beside the viewport and dropped here, with no crop pass to copy the
-// viewport out (a third of the band's cost on an H200, BENCHMARKS.md). Elsewhere, and
+// viewport out (two thirds of the band's cost on an H200, BENCHMARKS.md). Elsewhere, and
 // for passes that write an intermediate texture, pixels are stored where they are.
 
 override CROPS: bool = false;
