@@ -78,26 +78,39 @@ impl GBuffer {
 }
 
 /// Multisampled depth of one view ([`MSAA_SAMPLES`] per pixel, [`DEPTH_FORMAT`]), as an
-/// MSAA renderer's depth attachment holds it.
+/// MSAA renderer's depth attachment holds it; with a guard band the texture holds the view
+/// and the band around it, as [`GBuffer`]'s.
 #[derive(Debug)]
 pub struct MsaaDepth {
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
+    /// The texture's size, the band included.
     pub width: u32,
     pub height: u32,
+    /// Pixels rasterized beyond each side of the view (0: none).
+    pub guard_band: u32,
 }
 
 impl MsaaDepth {
-    /// obscura's input for this depth seen by `camera` (normals reconstructed).
+    /// obscura's input for this depth seen by `camera` (normals reconstructed): the view,
+    /// and with a guard band the band around it ([`obscura::AoInput::guard_band`]).
     pub fn ao_input(&self, camera: &Camera) -> obscura::AoInput<'_> {
+        let g = self.guard_band;
+        let inner = |s: u32| s.saturating_sub(g.saturating_mul(2));
+        let (w, h) = (inner(self.width), inner(self.height));
         obscura::AoInput {
             depth: &self.depth_view,
             convention: obscura::DepthConvention::Standard,
-            projection: camera.obscura_projection(self.width as f32 / self.height as f32),
+            projection: camera.obscura_projection(w as f32 / h as f32),
             normals: None,
-            viewport: None,
+            viewport: (g > 0).then_some(obscura::Viewport {
+                x: g,
+                y: g,
+                width: w,
+                height: h,
+            }),
             second_layer: None,
-            guard_band: 0,
+            guard_band: g,
             output: None,
         }
     }
@@ -355,16 +368,7 @@ impl GBufferRenderer {
         (width, height): (u32, u32),
         guard: u32,
     ) -> Result<GBuffer, SceneError> {
-        if width == 0 || height == 0 {
-            let max = ctx.device.limits().max_texture_dimension_2d;
-            return Err(obscura::Error::TooLarge { width, height, max }.into());
-        }
-        let too_wide = || SceneError::Camera(format!("a guard band of {guard} px is too wide"));
-        let grow = |s: u32| s.checked_add(guard.checked_mul(2)?);
-        let (width, height) = (
-            grow(width).ok_or_else(too_wide)?,
-            grow(height).ok_or_else(too_wide)?,
-        );
+        let (width, height) = guarded_size(ctx, (width, height), guard)?;
         let camera = &camera.widened(height - 2 * guard, guard);
         self.set_camera(ctx, camera, width, height)?;
         let depth = target(ctx, width, height, DEPTH_FORMAT, 1);
@@ -494,6 +498,21 @@ impl GBufferRenderer {
         width: u32,
         height: u32,
     ) -> Result<MsaaDepth, SceneError> {
+        self.render_msaa_depth_guarded(ctx, mesh, camera, (width, height), 0)
+    }
+
+    /// [`Self::render_msaa_depth`] of `camera`'s `width` × `height` view and a guard band
+    /// of `guard` pixels around it ([`Camera::widened`], as [`Self::render_guarded`]).
+    pub fn render_msaa_depth_guarded(
+        &self,
+        ctx: &GpuContext,
+        mesh: &GpuMesh,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        guard: u32,
+    ) -> Result<MsaaDepth, SceneError> {
+        let (width, height) = guarded_size(ctx, (width, height), guard)?;
+        let camera = &camera.widened(height - 2 * guard, guard);
         self.set_camera(ctx, camera, width, height)?;
         let depth = target(ctx, width, height, DEPTH_FORMAT, MSAA_SAMPLES);
         let depth_view = depth.create_view(&Default::default());
@@ -510,6 +529,7 @@ impl GBufferRenderer {
             depth_view,
             width,
             height,
+            guard_band: guard,
         })
     }
 
@@ -662,4 +682,23 @@ fn target(
         usage,
         view_formats: &[],
     })
+}
+
+/// The size of a `width` × `height` view with a guard band of `guard` pixels on each side;
+/// an empty view or a band past `u32` is an error.
+fn guarded_size(
+    ctx: &GpuContext,
+    (width, height): (u32, u32),
+    guard: u32,
+) -> Result<(u32, u32), SceneError> {
+    if width == 0 || height == 0 {
+        let max = ctx.device.limits().max_texture_dimension_2d;
+        return Err(obscura::Error::TooLarge { width, height, max }.into());
+    }
+    let too_wide = || SceneError::Camera(format!("a guard band of {guard} px is too wide"));
+    let grow = |s: u32| s.checked_add(guard.checked_mul(2)?);
+    Ok((
+        grow(width).ok_or_else(too_wide)?,
+        grow(height).ok_or_else(too_wide)?,
+    ))
 }

@@ -578,6 +578,81 @@ fn msaa_ao(
     )
 }
 
+/// MSAA depth with a guard band: the AO of the guarded view is the crop of the AO of the
+/// whole widened multisampled frame (the same texture without a band, under the widened
+/// projection), within 1e-4, in the default layout and the randomized one with temporal
+/// accumulation; and the band changes the AO at the view's edges.
+#[test]
+fn msaa_depth_takes_a_guard_band() {
+    let _g = lock();
+    let c = ctx();
+    let cam = default_scene::camera();
+    let raster = GBufferRenderer::new(&c.device);
+    let gm = raster.upload(c, &default_scene::mesh()).unwrap();
+    let (w, h, g) = (96u32, 60u32, 16u32);
+    let ms = raster
+        .render_msaa_depth_guarded(c, &gm, &cam, (w, h), g)
+        .unwrap();
+    assert_eq!(
+        (ms.width, ms.height, ms.guard_band),
+        (w + 2 * g, h + 2 * g, g)
+    );
+    let guarded = ms.ao_input(&cam);
+    let whole = obscura::AoInput {
+        viewport: None,
+        guard_band: 0,
+        projection: cam
+            .widened(h, g)
+            .obscura_projection((w + 2 * g) as f32 / (h + 2 * g) as f32),
+        ..guarded
+    };
+    let bare = obscura::AoInput {
+        guard_band: 0,
+        ..guarded
+    };
+    let params = AoParams {
+        radius: 1.0,
+        ..Default::default()
+    };
+    let randomized = AoOptions {
+        mode: obscura::AoMode::Randomized,
+        history: 4,
+        ..Default::default()
+    };
+    for options in [AoOptions::default(), randomized] {
+        let run = |input: &obscura::AoInput<'_>| {
+            let mut ao = Ao::new(&c.device, options).unwrap();
+            c.run(|enc| ao.record(&c.device, &c.queue, enc, input, &params))
+                .unwrap();
+            c.read_f32(ao.output().unwrap()).unwrap()
+        };
+        let wide = run(&whole);
+        let bw = (w + 2 * g) as usize;
+        let want: Vec<f32> = (0..h as usize)
+            .flat_map(|y| {
+                let row = (y + g as usize) * bw + g as usize;
+                wide[row..row + w as usize].to_vec()
+            })
+            .collect();
+        let got = run(&guarded);
+        let d = got
+            .iter()
+            .zip(&want)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
+        assert!(
+            d <= 1e-4,
+            "{options:?}: guarded MSAA AO off the crop by {d}"
+        );
+        let d = run(&bare)
+            .iter()
+            .zip(&want)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
+        assert!(d > 0.02, "{options:?}: the band changed the AO by only {d}");
+    }
+}
+
 /// The MSAA resolve equals its CPU mirror (`reference::resolve_msaa_depth`) on a 4× MSAA
 /// G-buffer of the default scene, except where a linear-depth comparison sits on its
 /// boundary (at most 0.1% of pixels), and the scene exercises both of its rules.

@@ -128,7 +128,8 @@ pub struct EvalArgs {
     /// references. All of them, 0 included, read one raster of the view and the widest
     /// band (obscura-scene's `GBufferRenderer::render_guarded`, same pixel size), so that
     /// the bands differ by what they see, not by depth rounding (the orbit of --frames too).
-    /// The truth and the pictures stay the view's. Clean single-sampled depth only.
+    /// The truth and the pictures stay the view's. A renderer's clean depth, single-sampled
+    /// or with --msaa (the multisampled depth then rasterized with the widest band).
     #[arg(long, value_delimiter = ',', default_value = "0")]
     pub guard_bands: Vec<u32>,
     /// Also run each full-resolution bitmask variant with a finite --thickness with a
@@ -385,8 +386,10 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     if let Some(g) = a.guard_bands.iter().find(|&&g| g > 1024) {
         bail!("--guard-bands must each be in 0..=1024 pixels (got {g})");
     }
-    if a.guard_bands.iter().any(|&g| g > 0) && (a.msaa || a.sensor != SensorArg::None) {
-        bail!("--guard-bands evaluates clean single-sampled depth (not with --msaa or --sensor)");
+    if a.guard_bands.iter().any(|&g| g > 0) && a.sensor != SensorArg::None {
+        bail!(
+            "--guard-bands evaluates a renderer's clean depth (not --sensor: a depth sensor sees nothing beyond its frame)"
+        );
     }
     if a.second_layer && (a.msaa || a.sensor != SensorArg::None) {
         bail!("--second-layer evaluates clean single-sampled depth (not with --msaa or --sensor)");

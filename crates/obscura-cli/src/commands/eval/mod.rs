@@ -213,8 +213,12 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         // projection moves some depths by a rounding step of Depth32Float, which alone
         // moves a view's error by up to 0.002, so the bands are compared on one raster.
         let widest = a.guards().into_iter().max().unwrap_or(0);
-        let banded = (widest > 0)
+        let banded = (widest > 0 && !a.msaa)
             .then(|| raster.render_guarded(&ctx, &gpu_mesh, &cam, (w, h), widest))
+            .transpose()?;
+        // With --msaa, the multisampled depth likewise.
+        let banded_msaa = (widest > 0 && a.msaa)
+            .then(|| raster.render_msaa_depth_guarded(&ctx, &gpu_mesh, &cam, (w, h), widest))
             .transpose()?;
         // With --second-layer, a second layer peeled from the raster the variants read at
         // each finite prior (a renderer's pass, timed apart: the median of 5 peels).
@@ -287,12 +291,16 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             ..params
         };
         // The input with a guard band of `guard` pixels (the view's own without bands).
-        let guarded = |guard: u32| match &banded {
-            Some(b) => AoInput {
+        let guarded = |guard: u32| match (&banded, &banded_msaa) {
+            (Some(b), _) => AoInput {
                 guard_band: guard,
                 ..b.ao_input(&cam, a.normal_source() == NormalSource::Gbuffer)
             },
-            None => input,
+            (None, Some(m)) => AoInput {
+                guard_band: guard,
+                ..m.ao_input(&cam)
+            },
+            (None, None) => input,
         };
         // ... with the second layer peeled at `thickness` when `second`.
         let layered = |guard: u32, thickness: f32, second: bool| AoInput {

@@ -108,7 +108,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let gpu_mesh = raster.upload(&ctx, &mesh)?;
     let (gbuffer, msaa_depth);
     let input = if a.msaa {
-        msaa_depth = raster.render_msaa_depth(&ctx, &gpu_mesh, &cam, a.width, a.height)?;
+        let size = (a.width, a.height);
+        msaa_depth = raster.render_msaa_depth_guarded(&ctx, &gpu_mesh, &cam, size, a.guard_band)?;
         gbuffer = None;
         msaa_depth.ao_input(&cam)
     } else {
@@ -122,7 +123,14 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         a.width,
         a.height,
         if a.msaa {
-            ", depth only, 4x MSAA (obscura resolves it; normals reconstructed)".to_string()
+            format!(
+                ", depth only, 4x MSAA (obscura resolves it; normals reconstructed){}",
+                if a.guard_band > 0 {
+                    format!(", and a guard band of {} px", a.guard_band)
+                } else {
+                    String::new()
+                }
+            )
         } else if a.guard_band > 0 {
             format!(
                 " and a guard band of {} px ({}x{} rasterized)",
