@@ -441,9 +441,14 @@ impl Pass {
         };
         const STORE_PREPARED_FULL: &str = include_str!("prepare/prepare_store_full.wgsl");
         const STORE_PREPARED_LAYERS: &str = include_str!("prepare/prepare_store_layers.wgsl");
-        const STORE_AO_FULL: &str = include_str!("estimators/ao_store_full.wgsl");
-        // The output's store (CROPS), in every pass that can write the output.
+        // The output's store (CROPS), in every pass that can write the output; the AO
+        // passes and the unfused merge reach it through STORE_AO_FULL.
         const OUTPUT: &str = include_str!("output.wgsl");
+        const STORE_AO_FULL: &str = concat!(
+            include_str!("output.wgsl"),
+            "\n",
+            include_str!("estimators/ao_store_full.wgsl")
+        );
         const STORE_AO_LAYERS: &str = include_str!("estimators/ao_store_layers.wgsl");
         const PREPARE: &str = include_str!("prepare/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("pyramid/downsample_rule.wgsl");
@@ -535,7 +540,6 @@ impl Pass {
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
-                    OUTPUT,
                     STORE_AO_FULL,
                     ao_bent(bent),
                     include_str!("estimators/ao_full.wgsl"),
@@ -551,7 +555,6 @@ impl Pass {
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
-                    if merge { OUTPUT } else { "" },
                     if merge {
                         STORE_AO_FULL
                     } else {
@@ -565,11 +568,7 @@ impl Pass {
                 STORE_PREPARED_LAYERS,
                 include_str!("layers/deinterleave.wgsl"),
             ],
-            Pass::Interleave => vec![
-                OUTPUT,
-                STORE_AO_FULL,
-                include_str!("layers/interleave.wgsl"),
-            ],
+            Pass::Interleave => vec![STORE_AO_FULL, include_str!("layers/interleave.wgsl")],
             Pass::Pyramid { source } => {
                 vec![pyramid_source(source), include_str!("pyramid/pyramid.wgsl")]
             }
