@@ -86,8 +86,10 @@ pub struct AoParams {
     /// How deep a surface is behind the depth seen, as a multiple of [`AoParams::radius`]:
     /// the thickness prior of [`crate::Estimator::Bitmask`] (other estimators ignore it).
     /// One depth layer cannot show how far an object extends away from the camera; this
-    /// assumes every object is this deep there (docs/thickness.md). `f32::INFINITY`:
-    /// infinitely thick, GTAO's assumption. Range > 0. Default [`DEFAULT_THICKNESS`].
+    /// assumes every object is this deep there (docs/thickness.md); the part of such a
+    /// solid within the radius occludes, even where its front lies beyond it.
+    /// `f32::INFINITY`: infinitely thick, GTAO's assumption (a sample counts where its
+    /// front lies within the radius). Range > 0. Default [`DEFAULT_THICKNESS`].
     pub thickness: f32,
 }
 

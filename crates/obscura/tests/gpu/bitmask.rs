@@ -1,7 +1,8 @@
 //! The visibility-bitmask estimator (src/passes/estimators/bitmask.wgsl): its GPU pass
 //! against its CPU mirror for finite and infinite thickness and both march spacings, its
 //! agreement with GTAO when surfaces are infinitely thick, and what a thin prior changes
-//! behind a thin occluder; the second depth layer against its mirror, and its input
+//! behind a thin occluder, and a solid reaching into the radius from in front; the second
+//! depth layer against its mirror, and its input
 //! checks. One device per binary.
 
 use crate::{
@@ -111,6 +112,43 @@ fn infinitely_thick_bitmask_is_gtao() {
     assert!(g.iter().any(|&a| a < 0.8), "the scene occludes");
 }
 
+/// The strip scenes' size: 64 × 40, seen orthographically, 0.2 view units a pixel.
+const STRIP_SIZE: (u32, u32) = (64, 40);
+
+/// Randomized bitmask AO of a strip over columns 30..34 at linear depth `strip`, in front
+/// of a plane at depth 10, seen orthographically (`STRIP_SIZE`), with `radius` and a
+/// prior of `thickness` radii.
+fn strip_ao(strip: f32, radius: f32, thickness: f32) -> Vec<f32> {
+    let (w, h) = STRIP_SIZE;
+    let projection = Projection::Orthographic {
+        half_width: 4.0 * w as f32 / h as f32,
+        half_height: 4.0,
+        near: 0.1,
+        far: 50.0,
+    };
+    let raw: Vec<f32> = (0..w * h)
+        .map(|i| if is_strip(i % w) { strip } else { 10.0 })
+        .collect();
+    let params = AoParams {
+        radius,
+        thickness,
+        ..Default::default()
+    };
+    run_linear(
+        &raw,
+        (w, h),
+        projection,
+        bitmask(AoMode::Randomized),
+        &params,
+    )
+    .ao
+}
+
+/// Whether column `x` is the strip's.
+fn is_strip(x: u32) -> bool {
+    (30..34).contains(&x)
+}
+
 /// A thin strip one unit in front of a wall, seen orthographically. Taken as infinitely
 /// deep it shadows the wall beside it like a fin reaching back into the wall; taken as
 /// 0.2 units deep it blocks only the sectors between its front and back, so the wall
@@ -118,33 +156,10 @@ fn infinitely_thick_bitmask_is_gtao() {
 #[test]
 fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
     let _g = lock();
-    let (w, h) = (64u32, 40u32);
-    let projection = Projection::Orthographic {
-        half_width: 4.0 * w as f32 / h as f32,
-        half_height: 4.0,
-        near: 0.1,
-        far: 50.0,
-    };
-    // Columns 30..34: the strip at depth 9; elsewhere the wall at depth 10.
-    let strip = |x: u32| (30..34).contains(&x);
-    let raw: Vec<f32> = (0..w * h)
-        .map(|i| if strip(i % w) { 9.0 } else { 10.0 })
-        .collect();
-    let ao = |thickness: f32| {
-        let params = AoParams {
-            radius: 2.0,
-            thickness: thickness / 2.0,
-            ..Default::default()
-        };
-        run_linear(
-            &raw,
-            (w, h),
-            projection,
-            bitmask(AoMode::Randomized),
-            &params,
-        )
-        .ao
-    };
+    let (w, h) = STRIP_SIZE;
+    let strip = is_strip;
+    // The strip at depth 9, radius 2: the prior in view units over 2.
+    let ao = |thickness: f32| strip_ao(9.0, 2.0, thickness / 2.0);
     let (thin, thick) = (ao(0.2), ao(f32::INFINITY));
     // Wall pixels within 6 columns of the strip, away from the image's top and bottom.
     let near_wall: Vec<usize> = (0..(w * h) as usize)
@@ -171,6 +186,42 @@ fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
         t_thin > 0.99 && t_thick > 0.99,
         "the strip's top is open: {t_thin}, {t_thick}"
     );
+}
+
+/// A plank 1.4 units above a floor, seen from above orthographically, radius 1. Its front
+/// lies beyond R of every floor pixel, so GTAO's rule (infinite thickness) and a thin
+/// prior leave the floor beside it open. With the prior of one radius the plank reaches
+/// down to 0.4 above the floor, within R of the floor beside it (0.5 away at most for
+/// the two columns next to it), so only the part of its solid inside that sphere
+/// darkens them; the floor far from the plank stays open either way.
+#[test]
+fn a_solid_reaching_into_the_radius_from_in_front_occludes() {
+    let _g = lock();
+    let w = STRIP_SIZE.0;
+    // The plank's top at depth 8.6.
+    let ao = |thickness: f32| strip_ao(8.6, 1.0, thickness);
+    let rows = |cols: &[u32]| -> Vec<usize> {
+        (8..32u32)
+            .flat_map(|y| cols.iter().map(move |&x| (y * w + x) as usize))
+            .collect()
+    };
+    let mean = |v: &[f32], at: &[usize]| at.iter().map(|&i| v[i]).sum::<f32>() / at.len() as f32;
+    let (beside, far) = (rows(&[28, 29, 34, 35]), rows(&[10, 11, 52, 53]));
+    for (thickness, what) in [(f32::INFINITY, "infinitely thick"), (0.2, "0.2 deep")] {
+        let a = ao(thickness);
+        assert!(
+            mean(&a, &beside) > 0.99,
+            "a plank {what} is beyond R: {}",
+            mean(&a, &beside)
+        );
+    }
+    let a = ao(1.0);
+    assert!(
+        mean(&a, &beside) < 0.9,
+        "a plank one radius deep reaches into R: {}",
+        mean(&a, &beside)
+    );
+    assert!(mean(&a, &far) > 0.99, "the open floor: {}", mean(&a, &far));
 }
 
 /// The bitmask with a second depth layer ([`AoOptions::second_layer`]): the AO of `raw`

@@ -109,6 +109,37 @@ pub(crate) fn bitmask_bent(
     bent
 }
 
+/// The part of a sample's solid that can occlude the centre at `pos` (view space): the
+/// stretch of pixel `at`'s view ray from linear depth `front` to `back` that lies within
+/// the radius of `pos`, since the reference counts only hits within R. The front may lie
+/// beyond R when the solid reaches into the sphere from in front (a ledge above the
+/// centre). An infinitely thick solid (`back` infinite: GTAO's assumption) counts only
+/// where its front lies within R and reaches the hemisphere's edge (a `None` back). Ends
+/// relative to `pos`; `None` where nothing lies within R. Mirrors the clipping in
+/// bitmask.wgsl.
+pub(crate) fn clip_solid(
+    f: &crate::passes::uniforms::FrameUniforms,
+    at: [f32; 2],
+    pos: Vec3,
+    front: f32,
+    back: f32,
+) -> Option<(Vec3, Option<Vec3>)> {
+    let front0 = f.view_position(at, front) - pos;
+    let c = front0.dot(front0) * f.inv_radius2 - 1.0;
+    if !back.is_finite() {
+        return (c < 0.0).then_some((front0, None));
+    }
+    // The roots s of |front0 + s seg| = R, clamped to [0, 1].
+    let seg = f.view_position(at, back) - pos - front0;
+    let qa = seg.dot(seg) * f.inv_radius2;
+    let qb = front0.dot(seg) * f.inv_radius2;
+    let disc = qb * qb - qa * c;
+    let sq = disc.max(0.0).sqrt();
+    let s0 = ((-qb - sq) / qa).max(0.0);
+    let s1 = ((-qb + sq) / qa).min(1.0);
+    (disc > 0.0 && s1 > s0).then(|| (front0 + seg * s0, Some(front0 + seg * s1)))
+}
+
 /// Mirrors `sector_bits` in bitmask.wgsl: bits `[a, b)`.
 pub(crate) fn sector_bits(a: u32, b: u32) -> u32 {
     let below = |k: u32| if k >= 32 { u32::MAX } else { (1u32 << k) - 1 };
@@ -218,17 +249,17 @@ pub fn bitmask_pixel_solids(
                 };
                 let at = centre(q);
                 for (sd, sb) in solids(q).into_iter().flatten() {
-                    let front = f.view_position(at, sd) - pos;
-                    let r2 = front.dot(front) * f.inv_radius2;
+                    let Some((front, back)) = clip_solid(f, at, pos, sd, sb) else {
+                        continue;
+                    };
                     let wf = front - axis * front.dot(axis);
-                    if r2 >= 1.0 || wf.dot(wf) <= 0.0 {
+                    if wf.dot(wf) <= 0.0 {
                         continue;
                     }
                     let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
                     let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
                     let mut ub = if sgn > 0.0 { total } else { 0.0 };
-                    if sb.is_finite() {
-                        let back = f.view_position(at, sb) - pos;
+                    if let Some(back) = back {
                         let wb = back - axis * back.dot(axis);
                         if wb.dot(wb) > 0.0 {
                             let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
@@ -285,6 +316,73 @@ mod tests {
                 "n {n}: halves {low} + {high} vs {all}"
             );
         }
+    }
+
+    /// `clip_solid` against the sphere's closed form, orthographic (one view unit per
+    /// pixel, radius 4, the centre at depth 10): a view ray `r` units from the centre
+    /// crosses the sphere between depths 10 ± √(16 − r²). Tolerance 1e-4 view units.
+    #[test]
+    fn clip_solid_keeps_the_stretch_within_the_radius() {
+        use crate::{AoOptions, AoParams, DepthConvention, Projection, Viewport};
+        let (w, h) = (32u32, 32u32);
+        let f = crate::passes::uniforms::FrameUniforms::new(
+            &Projection::Orthographic {
+                half_width: w as f32 / 2.0,
+                half_height: h as f32 / 2.0,
+                near: 0.1,
+                far: 100.0,
+            },
+            DepthConvention::LinearView,
+            None,
+            (
+                Viewport {
+                    x: 0,
+                    y: 0,
+                    width: w,
+                    height: h,
+                },
+                0,
+            ),
+            &AoOptions::default(),
+            &AoParams {
+                radius: 4.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let pos = f.view_position([16.5, 16.5], 10.0);
+        // The depth of a returned end (relative to `pos`) along its view ray.
+        let depth = |v: Vec3| 10.0 - v.z;
+        let half = |r: f32| (16.0 - r * r).sqrt();
+        for (dx, front, back) in [
+            (2.0f32, 5.0f32, 9.0f32), // reaches in from in front
+            (2.0, 8.0, 20.0),         // reaches out behind
+            (3.0, 9.5, 10.5),         // inside
+            (0.0, 2.0, 30.0),         // through the centre's ray
+        ] {
+            let at = [16.5 + dx, 16.5];
+            let (a, b) = clip_solid(&f, at, pos, front, back).expect("crosses the sphere");
+            let b = b.expect("a finite solid has a back");
+            let (lo, hi) = (front.max(10.0 - half(dx)), back.min(10.0 + half(dx)));
+            assert!(
+                (depth(a) - lo).abs() < 1e-4,
+                "{dx} {front}..{back}: front {}",
+                depth(a)
+            );
+            assert!(
+                (depth(b) - hi).abs() < 1e-4,
+                "{dx} {front}..{back}: back {}",
+                depth(b)
+            );
+            assert!((a.x - dx).abs() < 1e-4 && (b.x - dx).abs() < 1e-4);
+        }
+        // In front of the sphere, beside it, and infinitely thick from in front of it.
+        assert!(clip_solid(&f, [18.5, 16.5], pos, 3.0, 6.0).is_none());
+        assert!(clip_solid(&f, [21.5, 16.5], pos, 8.0, 12.0).is_none());
+        assert!(clip_solid(&f, [18.5, 16.5], pos, 5.0, f32::INFINITY).is_none());
+        // Infinitely thick from within R: the front as it is, no back.
+        let (a, b) = clip_solid(&f, [18.5, 16.5], pos, 9.0, f32::INFINITY).unwrap();
+        assert!((depth(a) - 9.0).abs() < 1e-4 && b.is_none());
     }
 
     #[test]

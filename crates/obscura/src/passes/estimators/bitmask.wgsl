@@ -4,9 +4,12 @@
 //
 // GTAO's slices and samples, but a slice keeps a 32-bit field of occluded sectors instead
 // of two horizons. A sample is a solid from its front (the depth seen) to its back (the
-// front pushed away from the camera by the thickness prior, frame.thickness), and occludes
-// the sectors between the two directions; samples farther than R, sky and off-screen
-// samples are ignored, as in GTAO. The sectors are not equal angles (the paper's choice)
+// front pushed away from the camera by the thickness prior, frame.model.x), and occludes
+// the sectors between the directions of the ends of its stretch within R of the centre:
+// the ray-traced reference counts hits within R, and a solid whose front lies beyond R
+// (a ledge above the centre, seen from above) can still reach into that sphere. An
+// infinitely thick solid counts where its front is within R, as in GTAO. Sky and
+// off-screen samples are ignored. The sectors are not equal angles (the paper's choice)
 // but equal shares of the slice's cosine-weighted integral (Jimenez et al. 2016, eq. 10),
 // so a slice's visibility is its unoccluded integral times the share of clear bits, and
 // with infinite thickness the estimate is GTAO's up to the 1/32 quantisation. Sector
@@ -184,11 +187,28 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                         }
                         fd = sd2;
                     }
-                    let front = view_position(at, fd) - pos;
-                    let r2 = dot(front, front) * frame.inv_radius2;
+                    let front0 = view_position(at, fd) - pos;
+                    let c = dot(front0, front0) * frame.inv_radius2 - 1.0;
+                    var front = front0;
+                    var back = front0;
+                    var inside = c < 0.0;
+                    if thickness > 0.0 {
+                        // The solid's stretch of the view ray within R of the centre: the
+                        // roots s of |front0 + s seg| = R, clamped to [0, 1]. Mirror: `clip_solid`.
+                        let seg = view_position(at, fd + thickness) - pos - front0;
+                        let qa = dot(seg, seg) * frame.inv_radius2;
+                        let qb = dot(front0, seg) * frame.inv_radius2;
+                        let disc = qb * qb - qa * c;
+                        let sq = sqrt(max(disc, 0.0));
+                        let s0 = max((-qb - sq) / qa, 0.0);
+                        let s1 = min((-qb + sq) / qa, 1.0);
+                        inside = disc > 0.0 && s1 > s0;
+                        front = front0 + s0 * seg;
+                        back = front0 + s1 * seg;
+                    }
                     // Measured in the slice plane, as in gtao.wgsl.
                     let wf = front - axis * dot(front, axis);
-                    if r2 >= 1.0 || dot(wf, wf) <= 0.0 {
+                    if !inside || dot(wf, wf) <= 0.0 {
                         continue;
                     }
                     let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
@@ -196,7 +216,6 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     // Infinitely thick: the solid reaches the hemisphere's edge on this side.
                     var ub = select(0.0, total, sgn > 0.0);
                     if thickness > 0.0 {
-                        let back = view_position(at, fd + thickness) - pos;
                         let wb = back - axis * dot(back, axis);
                         if dot(wb, wb) > 0.0 {
                             let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
