@@ -246,6 +246,14 @@ pub struct EvalArgs {
     /// reconstructed from it) instead of single-sampled depth. Single frames only.
     #[arg(long, conflicts_with = "sensor")]
     pub msaa: bool,
+    /// Give obscura the ray tracer's depth (each pixel centre's exact linear depth, as
+    /// `R32Float`) instead of the rasterized Depth32Float, whose steps in the standard
+    /// convention reach about 2% of the radius on the standard views (docs/thickness.md):
+    /// what the depth format's precision costs each variant and reference. Normals stay
+    /// the G-buffer's. Single frames, without --sensor, --msaa, --second-layer, guard
+    /// bands, --ssdo or --truth msaa4.
+    #[arg(long, conflicts_with_all = ["sensor", "msaa", "second_layer", "ssdo"])]
+    pub traced_depth: bool,
     /// Where the reference's primary rays go: `centre` (the pixel centre, where single-
     /// sampled depth is taken) or `msaa4` (the four 4× MSAA sample positions, a quarter of
     /// the rays each, averaged: the AO a 4× MSAA image resolves to; judges --msaa and
@@ -335,6 +343,14 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
             "--width and --height must be in 1..=8192 (got {}x{})",
             a.width,
             a.height
+        );
+    }
+    if a.traced_depth
+        && (a.temporal_run() || a.guards().iter().any(|&g| g > 0) || a.truth != TruthArg::Centre)
+    {
+        bail!(
+            "--traced-depth replaces the single-sampled raster of a still view: it takes \
+             single frames, no guard band and --truth centre"
         );
     }
     if a.rays == 0 || a.rays > 65536 {

@@ -252,6 +252,21 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             radius,
             ..Default::default()
         };
+        // --traced-depth: the ray tracer's exact depth in place of the raster's.
+        let traced = a.traced_depth.then(|| {
+            let depth: Vec<f32> = reference
+                .depth
+                .iter()
+                .map(|&z| if z > 0.0 && z.is_finite() { z } else { 0.0 })
+                .collect();
+            let texture = ctx.upload_r32("traced depth", &depth, w, h);
+            let view = texture.create_view(&Default::default());
+            (texture, view)
+        });
+        if let Some((_, view)) = &traced {
+            input.depth = view;
+            input.convention = obscura::DepthConvention::LinearView;
+        }
         if let Some(s) = &noisy {
             input.depth = &s.view;
             input.convention = obscura::DepthConvention::LinearView;
