@@ -1,9 +1,8 @@
 //! The visibility-bitmask estimator (src/passes/estimators/bitmask.wgsl): its GPU pass
 //! against its CPU mirror for finite and infinite thickness and both march spacings, its
-//! agreement with GTAO when surfaces are infinitely thick, and what a thin prior changes
+//! agreement with GTAO when surfaces are infinitely thick, what a thin prior changes
 //! behind a thin occluder, and a solid reaching into the radius from in front; the second
-//! depth layer against its mirror, and its input
-//! checks. One device per binary.
+//! depth layer against its mirror, and its input checks. One device per binary.
 
 use crate::{
     all_variants, assert_matches_mirror, lock, persp, run_ao, test_projections, test_scene, H, W,
@@ -191,8 +190,8 @@ fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
 /// A plank 1.4 units above a floor, seen from above orthographically, radius 1. Its front
 /// lies beyond R of every floor pixel, so GTAO's rule (infinite thickness) and a thin
 /// prior leave the floor beside it open. With the prior of one radius the plank reaches
-/// down to 0.4 above the floor, within R of the floor beside it (0.5 away at most for
-/// the two columns next to it), so only the part of its solid inside that sphere
+/// down to 0.4 above the floor, within R of the floor beside it (under 0.6 away for the
+/// two columns next to it), so only the part of its solid inside that sphere
 /// darkens them; the floor far from the plank stays open either way.
 #[test]
 fn a_solid_reaching_into_the_radius_from_in_front_occludes() {

@@ -248,10 +248,11 @@ pub struct EvalArgs {
     pub msaa: bool,
     /// Give obscura the ray tracer's depth (each pixel centre's exact linear depth, as
     /// `R32Float`) instead of the rasterized Depth32Float, whose steps in the standard
-    /// convention reach about 2% of the radius on the standard views (docs/thickness.md):
-    /// what the depth format's precision costs each variant and reference. Normals stay
-    /// the G-buffer's. Single frames, without --sensor, --msaa, --second-layer, guard
-    /// bands, --ssdo or --truth msaa4.
+    /// convention differ from it by 1.1–2.2% of the radius (median by view) on the
+    /// standard views (docs/thickness.md): what the depth format's precision costs each
+    /// variant and reference. Normals are the G-buffer's unless --normals reconstructs
+    /// them (then from the traced depth). Single frames, without --sensor, --msaa,
+    /// --second-layer, guard bands, --ssdo or --truth msaa4.
     #[arg(long, conflicts_with_all = ["sensor", "msaa", "second_layer", "ssdo"])]
     pub traced_depth: bool,
     /// Where the reference's primary rays go: `centre` (the pixel centre, where single-

@@ -261,9 +261,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .collect();
             let texture = ctx.upload_r32("traced depth", &depth, w, h);
             let view = texture.create_view(&Default::default());
-            (texture, view)
+            (texture, view, depth)
         });
-        if let Some((_, view)) = &traced {
+        if let Some((_, view, _)) = &traced {
             input.depth = view;
             input.convention = obscura::DepthConvention::LinearView;
         }
@@ -277,9 +277,10 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         if a.depth_noise == NoiseArg::Estimate
             || (a.depth_noise == NoiseArg::Auto && noisy.is_some())
         {
-            let depth = match &noisy {
-                Some(s) => std::borrow::Cow::Borrowed(&s.depth),
-                None => std::borrow::Cow::Owned(linear_depth(&ctx, &g, &input)?),
+            let depth = match (&noisy, &traced) {
+                (Some(s), _) => std::borrow::Cow::Borrowed(&s.depth),
+                (None, Some(t)) => std::borrow::Cow::Borrowed(&t.2),
+                (None, None) => std::borrow::Cow::Owned(linear_depth(&ctx, &g, &input)?),
             };
             // An integer encoding (Kinect-like millimetres) is known to the estimate, as
             // `render --depth` knows it of a 16-bit PNG.

@@ -137,7 +137,7 @@ pub(crate) fn clip_solid(
     let sq = disc.max(0.0).sqrt();
     let s0 = ((-qb - sq) / qa).max(0.0);
     let s1 = ((-qb + sq) / qa).min(1.0);
-    (disc > 0.0 && s1 > s0).then(|| (front0 + seg * s0, Some(front0 + seg * s1)))
+    (qa > 0.0 && disc > 0.0 && s1 > s0).then(|| (front0 + seg * s0, Some(front0 + seg * s1)))
 }
 
 /// Mirrors `sector_bits` in bitmask.wgsl: bits `[a, b)`.
@@ -380,6 +380,8 @@ mod tests {
         assert!(clip_solid(&f, [18.5, 16.5], pos, 3.0, 6.0).is_none());
         assert!(clip_solid(&f, [21.5, 16.5], pos, 8.0, 12.0).is_none());
         assert!(clip_solid(&f, [18.5, 16.5], pos, 5.0, f32::INFINITY).is_none());
+        // A solid of no depth.
+        assert!(clip_solid(&f, [18.5, 16.5], pos, 9.0, 9.0).is_none());
         // Infinitely thick from within R: the front as it is, no back.
         let (a, b) = clip_solid(&f, [18.5, 16.5], pos, 9.0, f32::INFINITY).unwrap();
         assert!((depth(a) - 9.0).abs() < 1e-4 && b.is_none());

@@ -202,7 +202,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                         let sq = sqrt(max(disc, 0.0));
                         let s0 = max((-qb - sq) / qa, 0.0);
                         let s1 = min((-qb + sq) / qa, 1.0);
-                        inside = disc > 0.0 && s1 > s0;
+                        inside = qa > 0.0 && disc > 0.0 && s1 > s0;
                         front = front0 + s0 * seg;
                         back = front0 + s1 * seg;
                     }
