@@ -56,7 +56,8 @@ def ambient_occlusion(
     thickness: the bitmask estimator's thickness prior, times the radius (> 0, or
         float("inf"): infinitely thick, as GTAO assumes); default 1. A depth map shows
         only the front of each object: this assumes every object is that deep behind each
-        pixel, along its ray (docs/thickness.md). Other estimators ignore it.
+        pixel, along its ray, and the part of it within the radius occludes
+        (docs/thickness.md). Other estimators ignore it.
     estimator: "gtao", "hbao", "vo", "vao", "sao", "vo-area" or "bitmask".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel;
         high with GTAO or the bitmask at full or randomized half resolution: 30, three
