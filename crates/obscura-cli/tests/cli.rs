@@ -1104,15 +1104,15 @@ fn eval_rejects_bad_input() {
     }
 }
 
-/// `eval --view sponza` (shared scenes, one run, 2×2 layers, no pictures) with `args`,
-/// its JSON in `d`; the run must succeed.
-fn eval_sponza(d: &Path, args: &[&str]) -> serde_json::Value {
+/// `eval --view VIEW` (shared scenes, one run, 2×2 layers, no pictures) with `args`, its
+/// JSON and reference cache in `d`; the run must succeed.
+fn eval_view(d: &Path, view: &str, args: &[&str]) -> serde_json::Value {
     let (json, cache) = (d.join("q.json"), d.join("cache"));
     let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
     let mut all = vec![
         "eval",
         "--view",
-        "sponza",
+        view,
         "--scenes-dir",
         scenes,
         "--runs",
@@ -1135,22 +1135,18 @@ fn eval_sponza(d: &Path, args: &[&str]) -> serde_json::Value {
 #[test]
 fn eval_takes_the_traced_depth() {
     let d = scratch("eval-traced-depth");
-    let (json, cache) = (d.join("q.json"), d.join("cache"));
-    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/scenes");
     let run = |extra: &[&str]| {
-        let mut args = vec!["eval", "--view", "bunny", "--scenes-dir", scenes];
-        args.extend(["--width", "320", "--height", "200", "--rays", "32"]);
-        args.extend(["--estimators", "gtao", "--modes", "deinterleaved2"]);
-        args.extend(["--runs", "1", "--no-pictures", "--cache", s(&cache)]);
-        args.extend(["--json", s(&json)]);
-        args.extend_from_slice(extra);
-        let out = obscura(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let args = [
+            &["--width", "320", "--height", "200", "--rays", "32"],
+            extra,
+        ]
+        .concat();
+        let v = eval_view(
+            &d,
+            "bunny",
+            &[&args[..], &["--estimators", "gtao"]].concat(),
         );
-        record(&read_json(&json), "gtao screen-space reference")
+        record(&v, "gtao screen-space reference")
     };
     let (raster, traced) = (run(&[]), run(&["--traced-depth"]));
     let of = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
@@ -1175,8 +1171,9 @@ fn eval_takes_the_traced_depth() {
 #[test]
 fn eval_takes_guard_bands_with_msaa_depth() {
     let d = scratch("eval-guard-msaa");
-    let v = eval_sponza(
+    let v = eval_view(
         &d,
+        "sponza",
         &[
             "--width",
             "64",

@@ -401,6 +401,38 @@ impl FrameUniforms {
     }
 }
 
+/// A test frame: orthographic, one view unit per pixel, radius 4, linear depth, the whole
+/// `w` × `h` image (the denoiser's and the bitmask clip's unit tests).
+#[cfg(test)]
+pub(crate) fn ortho_test_frame(w: u32, h: u32) -> FrameUniforms {
+    use crate::{AoOptions, AoParams, DepthConvention, Projection, Viewport};
+    let projection = Projection::Orthographic {
+        half_width: w as f32 / 2.0,
+        half_height: h as f32 / 2.0,
+        near: 0.1,
+        far: 100.0,
+    };
+    let params = AoParams {
+        radius: 4.0,
+        ..Default::default()
+    };
+    let viewport = Viewport {
+        x: 0,
+        y: 0,
+        width: w,
+        height: h,
+    };
+    FrameUniforms::new(
+        &projection,
+        DepthConvention::LinearView,
+        None,
+        (viewport, 0),
+        &AoOptions::default(),
+        &params,
+    )
+    .unwrap()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

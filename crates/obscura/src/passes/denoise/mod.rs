@@ -201,35 +201,7 @@ mod tests {
     use super::*;
     use glam::Vec4;
 
-    /// The frame of the denoiser tests: orthographic, one view unit per pixel, radius 4.
-    fn ortho_frame(w: u32, h: u32) -> crate::passes::uniforms::FrameUniforms {
-        use crate::{AoOptions, AoParams, DepthConvention, Projection, Viewport};
-        let projection = Projection::Orthographic {
-            half_width: w as f32 / 2.0,
-            half_height: h as f32 / 2.0,
-            near: 0.1,
-            far: 100.0,
-        };
-        let params = AoParams {
-            radius: 4.0,
-            ..Default::default()
-        };
-        let viewport = Viewport {
-            x: 0,
-            y: 0,
-            width: w,
-            height: h,
-        };
-        crate::passes::uniforms::FrameUniforms::new(
-            &projection,
-            DepthConvention::LinearView,
-            None,
-            (viewport, 0),
-            &AoOptions::default(),
-            &params,
-        )
-        .unwrap()
-    }
+    use crate::passes::uniforms::ortho_test_frame as ortho_frame;
 
     /// Runs the 2×2-period denoiser on `prepared(x, y)` and `ao(x, y)` and checks every
     /// pixel off the image border (where kernels are cut by the image) against `want(x, y)`

@@ -323,33 +323,7 @@ mod tests {
     /// crosses the sphere between depths 10 ± √(16 − r²). Tolerance 1e-4 view units.
     #[test]
     fn clip_solid_keeps_the_stretch_within_the_radius() {
-        use crate::{AoOptions, AoParams, DepthConvention, Projection, Viewport};
-        let (w, h) = (32u32, 32u32);
-        let f = crate::passes::uniforms::FrameUniforms::new(
-            &Projection::Orthographic {
-                half_width: w as f32 / 2.0,
-                half_height: h as f32 / 2.0,
-                near: 0.1,
-                far: 100.0,
-            },
-            DepthConvention::LinearView,
-            None,
-            (
-                Viewport {
-                    x: 0,
-                    y: 0,
-                    width: w,
-                    height: h,
-                },
-                0,
-            ),
-            &AoOptions::default(),
-            &AoParams {
-                radius: 4.0,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let f = crate::passes::uniforms::ortho_test_frame(32, 32);
         let pos = f.view_position([16.5, 16.5], 10.0);
         // The depth of a returned end (relative to `pos`) along its view ray.
         let depth = |v: Vec3| 10.0 - v.z;
