@@ -9,8 +9,9 @@ use std::f32::consts::{FRAC_PI_2, PI};
 /// Sectors per slice: the bits of a `u32`.
 const SECTORS: f32 = 32.0;
 
-/// Mirrors `slice_cumulative` in bitmask.wgsl: the slice's running cosine-weighted
-/// integral from 0 to `s · acos(c)`, clamped to the normal's hemisphere.
+/// Mirrors `slice_cumulative` in bitmask.wgsl (which takes the unit in-slice direction,
+/// `c` its cosine): the slice's running cosine-weighted integral from 0 to `s · acos(c)`,
+/// clamped to the normal's hemisphere.
 pub(crate) fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     let t = s * fast_acos(c) - n;
     let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);

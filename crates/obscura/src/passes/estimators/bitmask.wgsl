@@ -26,13 +26,15 @@ override BENT_NORMALS: bool = false;
 
 const SECTORS: f32 = 32.0;
 
-// The slice's cosine-weighted integral from 0 to the angle h = s * acos(c) (clamped to the
-// normal's hemisphere n +- pi/2), signed: the running integral D(h) of cos(t - n) |sin t|,
-// D(0) = 0. gtao_side's closed form, with the sign of h.
-fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+// The slice's cosine-weighted integral from 0 to the angle h of the unit in-slice direction
+// w = (sin, cos) of h in (ortho, V) coordinates, on side s (h = s * acos(w.y), clamped to
+// the normal's hemisphere n +- pi/2), signed: the running integral D(h) of cos(t - n)
+// |sin t|, D(0) = 0. gtao_side's closed form, with the sign of h; |sin h| is |w.x|.
+fn slice_cumulative(w: vec2<f32>, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let c = clamp(w.y, -1.0, 1.0);
     let t = s * fast_acos(c) - n;
     let h = n + clamp(t, -HALF_PI, HALF_PI);
-    let sin_h = s * sqrt(max(1.0 - c * c, 0.0));
+    let sin_h = s * abs(w.x);
     let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
     let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
     return select(g, -g, h < 0.0);
@@ -138,7 +140,6 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             dir = vec2<f32>(dir.x * turn.x - dir.y * turn.y, dir.x * turn.y + dir.y * turn.x);
         }
         let slice = gtao_slice(dir, v, normal);
-        let axis = slice.axis;
         let weight = slice.weight;
         weights += weight;
         let proj_len = slice.proj_len;
@@ -175,7 +176,12 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 if sd <= 0.0 {
                     continue;
                 }
-                let at = vec2<f32>(q) + 0.5;
+                // The sample's view ray: view_position(at, z) is unit * z in perspective and
+                // unit - (z - 1) along z in orthographic projection (common.wgsl), so a
+                // solid of depth t spans t * ray.
+                let unit = view_position(vec2<f32>(q) + 0.5, 1.0);
+                let ray = select(vec3<f32>(0.0, 0.0, -1.0), unit, frame.perspective != 0u);
+                let seg = thickness * ray;
                 // The solids along the sample's view ray: the first layer's, and the second
                 // layer's where one lies behind it (second_layer*.wgsl; mirror: `solids`).
                 let sd2 = sample_second(q);
@@ -187,39 +193,40 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                         }
                         fd = sd2;
                     }
-                    let front0 = view_position(at, fd) - pos;
+                    let front0 = unit + (fd - 1.0) * ray - pos;
                     let c = dot(front0, front0) * frame.inv_radius2 - 1.0;
-                    var front = front0;
-                    var back = front0;
+                    // The ends in the slice plane's (ortho, V) coordinates, measured there as in
+                    // gtao.wgsl (pixel snapping moves samples slightly off the plane).
+                    let f2 = vec2<f32>(dot(front0, slice.ortho), dot(front0, v));
+                    var wf = f2;
+                    var wb = f2;
                     var inside = c < 0.0;
                     if thickness > 0.0 {
                         // The solid's stretch of the view ray within R of the centre: the
                         // roots s of |front0 + s seg| = R, clamped to [0, 1]. Mirror: `clip_solid`.
-                        let seg = view_position(at, fd + thickness) - pos - front0;
                         let qa = dot(seg, seg) * frame.inv_radius2;
                         let qb = dot(front0, seg) * frame.inv_radius2;
                         let disc = qb * qb - qa * c;
                         let sq = sqrt(max(disc, 0.0));
-                        let s0 = max((-qb - sq) / qa, 0.0);
-                        let s1 = min((-qb + sq) / qa, 1.0);
+                        let inv_qa = 1.0 / qa;
+                        let s0 = max((-qb - sq) * inv_qa, 0.0);
+                        let s1 = min((-qb + sq) * inv_qa, 1.0);
                         inside = qa > 0.0 && disc > 0.0 && s1 > s0;
-                        front = front0 + s0 * seg;
-                        back = front0 + s1 * seg;
+                        let seg2 = vec2<f32>(dot(seg, slice.ortho), dot(seg, v));
+                        wf = f2 + s0 * seg2;
+                        wb = f2 + s1 * seg2;
                     }
-                    // Measured in the slice plane, as in gtao.wgsl.
-                    let wf = front - axis * dot(front, axis);
-                    if !inside || dot(wf, wf) <= 0.0 {
+                    let lf = dot(wf, wf);
+                    if !inside || lf <= 0.0 {
                         continue;
                     }
-                    let cf = clamp(dot(wf, v) * inverseSqrt(dot(wf, wf)), -1.0, 1.0);
-                    let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
+                    let uf = slice_cumulative(wf * inverseSqrt(lf), sgn, n, cos_n, sin_n) - lower;
                     // Infinitely thick: the solid reaches the hemisphere's edge on this side.
                     var ub = select(0.0, total, sgn > 0.0);
                     if thickness > 0.0 {
-                        let wb = back - axis * dot(back, axis);
-                        if dot(wb, wb) > 0.0 {
-                            let cb = clamp(dot(wb, v) * inverseSqrt(dot(wb, wb)), -1.0, 1.0);
-                            ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
+                        let lb = dot(wb, wb);
+                        if lb > 0.0 {
+                            ub = slice_cumulative(wb * inverseSqrt(lb), sgn, n, cos_n, sin_n) - lower;
                         }
                     }
                     let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));
