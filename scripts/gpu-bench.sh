@@ -10,7 +10,8 @@
 # where it does not exist; their ray-traced references are cached in OUT_DIR/cache). Each step's output goes to OUT_DIR/STEP.txt
 # (and JSON beside it where the command writes one); a failing step is reported and the
 # rest still run. The adapter is forced to a hardware GPU (OBSCURA_ADAPTER=gpu) unless the
-# caller sets OBSCURA_ADAPTER.
+# caller sets OBSCURA_ADAPTER. OUT_DIR holds about 40 files and cache/ about 170 MB: a tool
+# that brings back only a few files wants `tar czf gpu.tgz --exclude=cache OUT_DIR`.
 set -uo pipefail
 
 bin=${1:-target/release/obscura}
@@ -74,6 +75,11 @@ if [ -d "$scenes" ]; then
   step layers-720p "${hd[@]}" --estimators gtao,bitmask --presets high \
     --modes randomized,deinterleaved2 --thickness 0.75,1 --second-layer --guard-bands 0,32 --runs 5 \
     --json "$out/layers-720p.json" --report "$out/layers-720p" --markdown "$out/layers-720p.md"
+  # The bitmask against GTAO with more steps, with and without a second layer: the frontier
+  # that decides whether the bitmask could be the default (docs/thickness.md, session 34).
+  step splits-720p "${hd[@]}" --estimators gtao,bitmask --splits 3x4,3x5,3x8 --march-exponents 1.3 \
+    --modes randomized,deinterleaved2 --thickness 1 --second-layer --runs 5 \
+    --json "$out/splits-720p.json" --report "$out/splits-720p" --markdown "$out/splits-720p.md"
 else
   echo "== eval steps skipped: no scenes at $scenes"
 fi
