@@ -1,5 +1,5 @@
 //! CPU mirror of the visibility-bitmask estimator (passes/estimators/bitmask.wgsl; same
-//! names, same order of operations).
+//! names, the same arithmetic, which the shader reorders to project once per sample).
 
 use super::{fast_acos, gtao_slice, GtaoSlice, Pixels, Surface};
 use crate::passes::prepare::centre;

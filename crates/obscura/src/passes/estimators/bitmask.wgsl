@@ -176,11 +176,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 if sd <= 0.0 {
                     continue;
                 }
-                // The sample's view ray: view_position(at, z) is unit * z in perspective and
-                // unit - (z - 1) along z in orthographic projection (common.wgsl), so a
-                // solid of depth t spans t * ray.
+                // The sample's view ray: view_position(at, z) = base + z * ray (common.wgsl;
+                // base 0 in perspective, ray -z in orthographic projection), so a solid of
+                // depth t spans t * ray.
                 let unit = view_position(vec2<f32>(q) + 0.5, 1.0);
-                let ray = select(vec3<f32>(0.0, 0.0, -1.0), unit, frame.perspective != 0u);
+                let persp = frame.perspective != 0u;
+                let ray = select(vec3<f32>(0.0, 0.0, -1.0), unit, persp);
+                let base = select(vec3<f32>(unit.xy, 0.0), vec3<f32>(0.0), persp);
                 let seg = thickness * ray;
                 // The solids along the sample's view ray: the first layer's, and the second
                 // layer's where one lies behind it (second_layer*.wgsl; mirror: `solids`).
@@ -193,7 +195,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                         }
                         fd = sd2;
                     }
-                    let front0 = unit + (fd - 1.0) * ray - pos;
+                    let front0 = base + fd * ray - pos;
                     let c = dot(front0, front0) * frame.inv_radius2 - 1.0;
                     // The ends in the slice plane's (ortho, V) coordinates, measured there as in
                     // gtao.wgsl (pixel snapping moves samples slightly off the plane).
