@@ -173,7 +173,10 @@ impl Camera {
     }
 
     /// Near and far planes that enclose `bounds` as seen from `eye`: far reaches the
-    /// farthest corner, near is 1/10000 of it (Depth32Float keeps ample precision).
+    /// farthest corner, near is 1/10000 of it. In the standard convention Depth32Float's
+    /// step at view depth z is about 2⁻²⁴ z² / near: on the shared views the raster differs
+    /// from the traced depth by 1.1–2.2% of the AO radius (docs/thickness.md, "What limits
+    /// the screen-space reference here").
     pub fn fit_clip_planes(&mut self, bounds: &Aabb) {
         let far = corners(bounds)
             .iter()
