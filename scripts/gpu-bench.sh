@@ -10,8 +10,9 @@
 # where it does not exist; their ray-traced references are cached in OUT_DIR/cache). Each step's output goes to OUT_DIR/STEP.txt
 # (and JSON beside it where the command writes one); a failing step is reported and the
 # rest still run. The adapter is forced to a hardware GPU (OBSCURA_ADAPTER=gpu) unless the
-# caller sets OBSCURA_ADAPTER. OUT_DIR holds about 40 files and cache/ about 170 MB: a tool
-# that brings back only a few files wants `tar czf gpu.tgz --exclude=cache OUT_DIR`.
+# caller sets OBSCURA_ADAPTER. OUT_DIR holds about 40 files and cache/ about 170 MB, so the
+# script ends by packing OUT_DIR without the cache and the PNGs into OUT_DIR.tgz: one file
+# for a tool that brings back only a few.
 set -uo pipefail
 
 bin=${1:-target/release/obscura}
@@ -84,5 +85,7 @@ else
   echo "== eval steps skipped: no scenes at $scenes"
 fi
 
+tar czf "$out.tgz" --exclude=cache --exclude="*.png" -C "$(dirname "$out")" "$(basename "$out")" &&
+  echo "gpu-bench: packed $out.tgz"
 echo "gpu-bench: $failed step(s) failed"
 [ "$failed" -eq 0 ]
