@@ -6,7 +6,7 @@
 // the pipeline. Where the first layer is sky nothing survives.
 
 struct Peel {
-    // The first layer's linearisation (obscura's `Linearize` of the standard convention):
+    // The first layer's linearisation (obscura's `Linearize` of reversed-Z, the G-buffer's):
     // d = 1 / (a z + b) when reciprocal != 0, else a z + b.
     a: f32,
     b: f32,
@@ -20,7 +20,8 @@ struct Peel {
 @fragment
 fn fs_peel(in: VsOut) {
     let z = textureLoad(first_depth, vec2<i32>(in.clip.xy), 0);
-    if z >= 1.0 {
+    // Reversed-Z: the sky is cleared to 0.
+    if z <= 0.0 {
         discard;
     }
     var first = peel.a * z + peel.b;

@@ -1,8 +1,19 @@
-//! A look-at camera with perspective or orthographic projection. Depth is written in the
-//! standard [0, 1] convention (near → 0), matching [`obscura::DepthConvention::Standard`].
+//! A look-at camera with perspective or orthographic projection. Depth is written
+//! reversed (near → 1, far → 0), matching [`obscura::DepthConvention::ReversedZ`]
+//! ([`DEPTH_CONVENTION`]): a float's exponent then spends its precision where the
+//! projection's 1/z loses it, so the depth keeps about 2⁻²⁴ of the view depth everywhere
+//! (Reed 2015, "Depth Precision Visualized"; docs/thickness.md, "A reversed-Z G-buffer").
 
 use crate::{Aabb, SceneError};
 use glam::{Mat4, Vec3, Vec4};
+
+/// The depth convention of [`Camera::projection_matrix`] and of everything obscura-scene
+/// rasterizes: reversed-Z, the sky cleared to 0.
+pub const DEPTH_CONVENTION: obscura::DepthConvention = obscura::DepthConvention::ReversedZ;
+
+/// The depth that obscura-scene clears to where no surface is (the far plane, reversed):
+/// a surface's depth is above it.
+pub const SKY_DEPTH: f32 = 0.0;
 
 /// The camera's projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,29 +110,30 @@ impl Camera {
         }
     }
 
-    /// View → clip, depth in [0, 1].
+    /// View → clip, depth in [0, 1] reversed ([`DEPTH_CONVENTION`]): 1 at near, 0 at far.
     pub fn projection_matrix(&self, aspect: f32) -> Mat4 {
+        let (n, f) = (self.near, self.far);
         match self.projection {
-            // z_ndc = f/(f−n)·(1 − n/d) for view depth d = −z.
+            // z_ndc = n/(f−n)·(f/d − 1) for view depth d = −z.
             CameraProjection::Perspective { fov_y_deg } => {
                 let h = 1.0 / (0.5 * fov_y_deg.to_radians()).tan();
-                let r = self.far / (self.near - self.far);
+                let r = n / (f - n);
                 Mat4::from_cols(
                     Vec4::new(h / aspect, 0.0, 0.0, 0.0),
                     Vec4::new(0.0, h, 0.0, 0.0),
                     Vec4::new(0.0, 0.0, r, -1.0),
-                    Vec4::new(0.0, 0.0, r * self.near, 0.0),
+                    Vec4::new(0.0, 0.0, r * f, 0.0),
                 )
             }
-            // z_ndc = (d − n)/(f − n).
+            // z_ndc = (f − d)/(f − n).
             CameraProjection::Orthographic { height } => {
                 let (hw, hh) = (0.5 * height * aspect, 0.5 * height);
-                let inv = 1.0 / (self.far - self.near);
+                let inv = 1.0 / (f - n);
                 Mat4::from_cols(
                     Vec4::new(1.0 / hw, 0.0, 0.0, 0.0),
                     Vec4::new(0.0, 1.0 / hh, 0.0, 0.0),
-                    Vec4::new(0.0, 0.0, -inv, 0.0),
-                    Vec4::new(0.0, 0.0, -self.near * inv, 1.0),
+                    Vec4::new(0.0, 0.0, inv, 0.0),
+                    Vec4::new(0.0, 0.0, f * inv, 1.0),
                 )
             }
         }
@@ -173,10 +185,10 @@ impl Camera {
     }
 
     /// Near and far planes that enclose `bounds` as seen from `eye`: far reaches the
-    /// farthest corner, near is 1/10000 of it. In the standard convention Depth32Float's
-    /// step at view depth z is about 2⁻²⁴ z² / near: on the shared views the raster differs
-    /// from the traced depth by 1.1–2.2% of the AO radius (docs/thickness.md, "What limits
-    /// the screen-space reference here").
+    /// farthest corner, near is 1/10000 of it. Reversed-Z keeps Depth32Float's step near
+    /// 2⁻²⁴ of the view depth at every depth; in the standard convention it was about
+    /// 2⁻²⁴ z² / near, 1.1–2.2% of the AO radius on the shared views (docs/thickness.md,
+    /// "What limits the screen-space reference here").
     pub fn fit_clip_planes(&mut self, bounds: &Aabb) {
         let far = corners(bounds)
             .iter()
@@ -254,6 +266,44 @@ mod tests {
         assert!(c.validate().is_err());
     }
 
+    /// Depth32Float's rounding of the reversed depth, linearized back, keeps every view
+    /// depth from 2·near to far/2 within 1e-6 of itself at `fit_clip_planes`' ratio (far =
+    /// 10⁴ near; analytic bound 2⁻²⁴·f/(f−d) plus a few ulps of the linearization). The
+    /// standard convention, whose step is 2⁻²⁴·d²/near, loses more than 1e-5 of some
+    /// depth in the same range: that is why the G-buffer is reversed.
+    #[test]
+    fn reversed_depth_keeps_precision_where_the_standard_one_loses_it() {
+        let c = Camera {
+            near: 0.01,
+            far: 100.0,
+            ..cam()
+        };
+        let aspect = 1.5;
+        let m = c.projection_matrix(aspect).as_dmat4();
+        let linearize = |convention| c.obscura_projection(aspect).linearize(convention).unwrap();
+        let (reversed, standard) = (
+            linearize(DEPTH_CONVENTION),
+            linearize(obscura::DepthConvention::Standard),
+        );
+        let (n, f) = (c.near as f64, c.far as f64);
+        let relative = |z: f64, lin: &obscura::Linearize, d: f64| {
+            // The rasterizer stores the exact NDC depth rounded to f32.
+            let back = lin.apply(z as f32).map_or(f64::INFINITY, f64::from);
+            (back - d).abs() / d
+        };
+        let (mut worst_reversed, mut worst_standard) = (0f64, 0f64);
+        let mut d = 2.0 * n;
+        while d <= 0.5 * f {
+            let clip = m * glam::DVec4::new(0.0, 0.0, -d, 1.0);
+            worst_reversed = worst_reversed.max(relative(clip.z / clip.w, &reversed, d));
+            let z_standard = f / (f - n) * (1.0 - n / d);
+            worst_standard = worst_standard.max(relative(z_standard, &standard, d));
+            d *= 1.037;
+        }
+        assert!(worst_reversed <= 1e-6, "reversed: {worst_reversed}");
+        assert!(worst_standard > 1e-5, "standard: {worst_standard}");
+    }
+
     #[test]
     fn matrix_depth_matches_obscura_linearization() {
         // The rasterizer's matrix and obscura's typed projection must agree, or AO would be
@@ -270,7 +320,7 @@ mod tests {
             let m = c.projection_matrix(aspect);
             let lin = c
                 .obscura_projection(aspect)
-                .linearize(obscura::DepthConvention::Standard)
+                .linearize(DEPTH_CONVENTION)
                 .unwrap();
             for d in [0.5f32, 2.0, 17.0, 45.0] {
                 let clip = m * glam::Vec4::new(0.3, -0.2, -d, 1.0);

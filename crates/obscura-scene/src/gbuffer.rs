@@ -1,6 +1,8 @@
 //! Rasterizes a [`Mesh`] seen by a [`Camera`] into a G-buffer: `Depth32Float` depth
-//! (standard convention), `Rgba16Float` view-space normals and `Rgba8Unorm` linear albedo.
+//! (reversed-Z, [`DEPTH_CONVENTION`]), `Rgba16Float` view-space normals and `Rgba8Unorm`
+//! linear albedo.
 
+use crate::camera::{DEPTH_CONVENTION, SKY_DEPTH};
 use crate::{Camera, Mesh, SceneError};
 use obscura::GpuContext;
 use wgpu::util::DeviceExt;
@@ -42,7 +44,7 @@ pub struct GBuffer {
 }
 
 /// A second depth layer of a [`GBuffer`] ([`GBufferRenderer::peel`]): [`DEPTH_FORMAT`],
-/// standard convention, the G-buffer's size; for [`obscura::AoInput::second_layer`].
+/// reversed-Z ([`DEPTH_CONVENTION`]), the G-buffer's size; for [`obscura::AoInput::second_layer`].
 #[derive(Debug)]
 pub struct DepthLayer {
     pub texture: wgpu::Texture,
@@ -51,7 +53,7 @@ pub struct DepthLayer {
 
 impl GBuffer {
     /// obscura's input for this G-buffer seen by `camera` (the view's camera, not the
-    /// widened one): standard depth, the camera's projection, the G-buffer's normals when
+    /// widened one): reversed-Z depth, the camera's projection, the G-buffer's normals when
     /// `with_normals` (else reconstructed), and the view inside its guard band.
     pub fn ao_input(&self, camera: &Camera, with_normals: bool) -> obscura::AoInput<'_> {
         let g = self.guard_band;
@@ -60,7 +62,7 @@ impl GBuffer {
         let (w, h) = (inner(self.width), inner(self.height));
         obscura::AoInput {
             depth: &self.depth_view,
-            convention: obscura::DepthConvention::Standard,
+            convention: DEPTH_CONVENTION,
             projection: camera.obscura_projection(w as f32 / h as f32),
             normals: with_normals
                 .then_some((&self.normals_view, obscura::NormalEncoding::ViewSigned)),
@@ -100,7 +102,7 @@ impl MsaaDepth {
         let (w, h) = (inner(self.width), inner(self.height));
         obscura::AoInput {
             depth: &self.depth_view,
-            convention: obscura::DepthConvention::Standard,
+            convention: DEPTH_CONVENTION,
             projection: camera.obscura_projection(w as f32 / h as f32),
             normals: None,
             viewport: (g > 0).then_some(obscura::Viewport {
@@ -233,7 +235,8 @@ impl GBufferRenderer {
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    // Reversed-Z: nearer is greater.
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
@@ -446,7 +449,7 @@ impl GBufferRenderer {
         self.set_camera(ctx, camera, w, h)?;
         let lin = camera
             .obscura_projection(w as f32 / h as f32)
-            .linearize(obscura::DepthConvention::Standard)?;
+            .linearize(DEPTH_CONVENTION)?;
         let uniform = PeelUniform {
             a: lin.a,
             b: lin.b,
@@ -612,7 +615,7 @@ impl GBufferRenderer {
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: depth_view,
                     depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
+                        load: wgpu::LoadOp::Clear(SKY_DEPTH),
                         store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,

@@ -1,6 +1,6 @@
 //! Scenes for obscura's CLI, tests and evaluation: mesh loading (glTF 2.0, OBJ), a
-//! camera, a built-in default scene, and G-buffer rasterization (Depth32Float depth plus
-//! view-space normals). Not needed by engines that bring their own depth buffer.
+//! camera, a built-in default scene, and G-buffer rasterization (reversed-Z Depth32Float
+//! depth plus view-space normals). Not needed by engines that bring their own depth buffer.
 
 pub mod camera;
 pub mod default_scene;
@@ -8,7 +8,7 @@ pub mod gbuffer;
 mod load;
 pub mod mesh;
 
-pub use camera::{Camera, CameraProjection};
+pub use camera::{Camera, CameraProjection, DEPTH_CONVENTION, SKY_DEPTH};
 pub use gbuffer::{DepthLayer, GBuffer, GBufferRenderer, GpuMesh, MsaaDepth, ALBEDO_FORMAT};
 pub use mesh::{Aabb, Mesh, DEFAULT_ALBEDO};
 

@@ -3,12 +3,13 @@
 //! beside the repository (as on every developer machine and in CI) and fails without it.
 
 use obscura::{
-    Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, DepthConvention, Estimator, GpuContext,
-    NormalEncoding, Preset,
+    Ao, AoInput, AoMode, AoOptions, AoParams, Denoise, Estimator, GpuContext, NormalEncoding,
+    Preset,
 };
 use obscura_scene::gbuffer::MSAA_SAMPLES;
 use obscura_scene::{
     default_scene, Camera, CameraProjection, GBufferRenderer, Mesh, MsaaDepth, SceneError,
+    DEPTH_CONVENTION, SKY_DEPTH,
 };
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -59,7 +60,7 @@ fn render_with(
     let mut ao = Ao::new(&c.device, options).unwrap();
     let input = AoInput {
         depth: &g.depth_view,
-        convention: DepthConvention::Standard,
+        convention: DEPTH_CONVENTION,
         projection: cam.obscura_projection(w as f32 / h as f32),
         normals: Some((&g.normals_view, NormalEncoding::ViewSigned)),
         viewport: None,
@@ -103,7 +104,7 @@ fn every_shared_mesh_loads_and_renders() {
         let b = mesh.bounds().unwrap();
         let cam = Camera::framing(&b, CameraProjection::Perspective { fov_y_deg: 50.0 });
         let (depth, ao) = render(&mesh, &cam, 96, 64, 0.03 * b.diagonal());
-        let covered = depth.iter().filter(|&&d| d < 1.0).count();
+        let covered = depth.iter().filter(|&&d| d > SKY_DEPTH).count();
         assert!(
             covered > 96 * 64 / 20,
             "{}: only {covered} pixels covered",
@@ -125,7 +126,7 @@ fn default_scene_has_real_occlusion() {
     let _g = lock();
     let mesh = default_scene::mesh();
     let (depth, ao) = render(&mesh, &default_scene::camera(), 320, 180, 1.0);
-    assert!(depth.contains(&1.0), "some sky is visible");
+    assert!(depth.contains(&SKY_DEPTH), "some sky is visible");
     let n = ao.len() as f32;
     let mean = ao.iter().sum::<f32>() / n;
     let var = ao.iter().map(|a| (a - mean).powi(2)).sum::<f32>() / n;
@@ -145,7 +146,7 @@ fn orthographic_camera_renders_and_matches_obscura_projection() {
     let mut cam = default_scene::camera();
     cam.projection = CameraProjection::Orthographic { height: 12.0 };
     let (depth, ao) = render(&mesh, &cam, 192, 128, 1.0);
-    assert!(depth.iter().filter(|&&d| d < 1.0).count() > 1000);
+    assert!(depth.iter().filter(|&&d| d > SKY_DEPTH).count() > 1000);
     assert!(ao.iter().any(|&a| a < 0.8));
 }
 
@@ -153,8 +154,9 @@ fn orthographic_camera_renders_and_matches_obscura_projection() {
 /// the widened camera keeps the pixel size and centres (a wrong field of view shifts every
 /// pixel; a band grown by 1.9 g instead of 2 g fails on 80% of them). Pixels whose centre
 /// lies on a triangle edge may flip with rounding: at most 0.5% of them may differ by more
-/// than 1e-4 of their linear depth (Depth32Float's standard depth, near = far / 10⁴, differs
-/// by 1e-5 between the two projection matrices). Its AO input is the view inside the band.
+/// than 1e-5 of their linear depth (reversed-Z Depth32Float keeps about 2⁻²⁴ of it; the
+/// standard convention, near = far / 10⁴, differed by 1e-5 between the two projection
+/// matrices). Its AO input is the view inside the band.
 #[test]
 fn guard_band_render_holds_the_plain_view_in_its_middle() {
     let _g = lock();
@@ -178,10 +180,7 @@ fn guard_band_render_holds_the_plain_view_in_its_middle() {
             cam.obscura_projection(w as f32 / h as f32)
         );
         let depth = c.read_f32(&banded.depth).unwrap();
-        let lin = input
-            .projection
-            .linearize(DepthConvention::Standard)
-            .unwrap();
+        let lin = input.projection.linearize(DEPTH_CONVENTION).unwrap();
         let bw = (w + 2 * g) as usize;
         let off = (0..h as usize)
             .flat_map(|y| (0..w as usize).map(move |x| (x, y)))
@@ -189,7 +188,7 @@ fn guard_band_render_holds_the_plain_view_in_its_middle() {
                 let a = lin.apply(plain[y * w as usize + x]);
                 let b = lin.apply(depth[(y + g as usize) * bw + x + g as usize]);
                 match (a, b) {
-                    (Some(a), Some(b)) => (a - b).abs() > 1e-4 * a,
+                    (Some(a), Some(b)) => (a - b).abs() > 1e-5 * a,
                     (a, b) => a.is_some() != b.is_some(),
                 }
             })
@@ -250,7 +249,7 @@ fn peel_finds_the_nearest_front_face_behind_the_separation() {
         let gb = raster.render_guarded(c, &gm, &cam, (w, h), guard).unwrap();
         let lin = cam
             .obscura_projection(w as f32 / h as f32)
-            .linearize(DepthConvention::Standard)
+            .linearize(DEPTH_CONVENTION)
             .unwrap();
         for (separation, left, right) in [
             (0.5, Some(6.0), Some(7.0)),

@@ -6,7 +6,7 @@ struct View {
     // 0: AO; 1: lit (albedo × (ambient × AO + sun)); 2: AO | depth | normals in thirds.
     mode: u32,
     width: u32,
-    // The camera's clip planes, to linearise the standard depth.
+    // The camera's clip planes, to linearise the G-buffer's reversed-Z depth.
     near: f32,
     far: f32,
     // The G-buffer's guard band: the view's pixel q is its texel q + guard (the AO is the
@@ -50,8 +50,8 @@ fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
         }
         if q.x >= third {
             // Linear depth, near white, 20 units black.
-            let lin = view.near * view.far / (view.far - z * (view.far - view.near));
-            let d = select(1.0 - min(lin / 20.0, 1.0), 0.0, z >= 1.0);
+            let lin = view.near * view.far / (view.near + z * (view.far - view.near));
+            let d = select(1.0 - min(lin / 20.0, 1.0), 0.0, z <= 0.0);
             return vec4<f32>(vec3<f32>(d), 1.0);
         }
     }

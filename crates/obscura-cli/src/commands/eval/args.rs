@@ -247,10 +247,11 @@ pub struct EvalArgs {
     #[arg(long, conflicts_with = "sensor")]
     pub msaa: bool,
     /// Give obscura the ray tracer's depth (each pixel centre's exact linear depth, as
-    /// `R32Float`) instead of the rasterized Depth32Float, whose steps in the standard
-    /// convention differ from it by 1.1–2.2% of the radius (median by view) on the
-    /// standard views (docs/thickness.md): what the depth format's precision costs each
-    /// variant and reference. Normals are the G-buffer's unless --normals reconstructs
+    /// `R32Float`) instead of the rasterized Depth32Float: what the depth format's
+    /// precision costs each variant and reference. With obscura-scene's reversed-Z raster
+    /// almost nothing (0.0001 on the standard views); the standard convention's steps,
+    /// and the pixels where its depth test kept a hidden surface, cost 0.002–0.006
+    /// (docs/thickness.md, "A reversed-Z G-buffer"). Normals are the G-buffer's unless --normals reconstructs
     /// them (then from the traced depth). Single frames, without --sensor, --msaa,
     /// --second-layer, guard bands, --ssdo or --truth msaa4.
     #[arg(long, conflicts_with_all = ["sensor", "msaa", "second_layer", "ssdo"])]

@@ -264,6 +264,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             (texture, view, depth)
         });
         if let Some((_, view, _)) = &traced {
+            eprintln!("  depth: the ray tracer's (--traced-depth), not the raster's");
             input.depth = view;
             input.convention = obscura::DepthConvention::LinearView;
         }
@@ -347,7 +348,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             .depth
             .iter()
             .zip(&gpu_depth)
-            .map(|(r, g)| *r > 0.0 && *g < 1.0)
+            .map(|(r, g)| *r > 0.0 && *g > obscura_scene::SKY_DEPTH)
             .collect();
         let band: Vec<bool> =
             metrics::discontinuity_band(&reference.depth, w as usize, h as usize, 0.05, 2)
