@@ -2274,34 +2274,52 @@ fn lights_reads_a_lights_file_and_refuses_bad_ones() {
 fn render_writes_ssdo_colour_images_that_pass_a_furnace_test() {
     let d = scratch("ssdo");
     let (ao, png, exr) = (d.join("ao.png"), d.join("ssdo.png"), d.join("ssdo.exr"));
-    let out = obscura(&[
-        "render",
-        "--width",
-        "192",
-        "--height",
-        "108",
-        "--runs",
-        "1",
-        "--out",
-        s(&ao),
-        "--ssdo",
-        s(&png),
-        "--env",
-        "constant:0.5,0.5,0.5",
-    ]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
+    // One 192×108 SSDO render of the built-in scene under `env`, with `extra` arguments.
+    let ssdo = |image: &Path, env: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", "--width", "192", "--height", "108", "--runs", "1", "--out",
+        ];
+        args.extend([s(&ao), "--ssdo", s(image), "--env", env]);
+        args.extend(extra);
+        let out = obscura(&args);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{err}");
+        err
+    };
+    // The green channel of the surface pixels (red > 0), sorted.
+    let surface = |image: &image::RgbImage| {
+        let mut v: Vec<u8> = image.pixels().filter(|p| p[0] > 0).map(|p| p[1]).collect();
+        v.sort_unstable();
+        v
+    };
+    let err = ssdo(&png, "constant:0.5,0.5,0.5", &[]);
     assert!(err.contains("ssdo:") && err.contains("median"), "{err}");
     let img = image::open(&png).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (192, 108));
-    let mut surface: Vec<u8> = img.pixels().filter(|p| p[0] > 0).map(|p| p[1]).collect();
-    surface.sort_unstable();
-    let n = surface.len();
+    let surface_values = surface(&img);
+    let n = surface_values.len();
     assert!(n > 192 * 108 / 2, "{n} surface pixels");
-    let (p05, p50, p95) = (surface[n / 20], surface[n / 2], surface[n - n / 20 - 1]);
+    let (p05, p50, p95) = (
+        surface_values[n / 20],
+        surface_values[n / 2],
+        surface_values[n - n / 20 - 1],
+    );
     assert!(
         (184..=192).contains(&p50) && p05 >= 160 && p95 <= 215,
         "surface values 5%/50%/95%: {p05}/{p50}/{p95}, want about 188"
+    );
+    // With a guard band of 16 px (the G-buffer, its albedo and SSDO's bounce cover it; the
+    // image is the view's): the same size, and still a furnace.
+    let banded = d.join("banded.png");
+    ssdo(&banded, "constant:0.5,0.5,0.5", &["--guard-band", "16"]);
+    let with_band = image::open(&banded).unwrap().to_rgb8();
+    assert_eq!(with_band.dimensions(), (192, 108));
+    let band_surface = surface(&with_band);
+    let nb = band_surface.len();
+    assert!(
+        nb.abs_diff(n) * 100 <= n && (184..=192).contains(&band_surface[nb / 2]),
+        "with a band: {nb} surface pixels (without: {n}), median {}",
+        band_surface[nb / 2]
     );
     // The same sky as an equirectangular Radiance map: the same image.
     let map = d.join("grey.hdr");
@@ -2309,26 +2327,7 @@ fn render_writes_ssdo_colour_images_that_pass_a_furnace_test() {
         .save(&map)
         .unwrap();
     let from_map = d.join("from-map.png");
-    let out = obscura(&[
-        "render",
-        "--width",
-        "192",
-        "--height",
-        "108",
-        "--runs",
-        "1",
-        "--out",
-        s(&ao),
-        "--ssdo",
-        s(&from_map),
-        "--env",
-        s(&map),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ssdo(&from_map, s(&map), &[]);
     let twin = image::open(&from_map).unwrap().to_rgb8();
     let most = img
         .pixels()

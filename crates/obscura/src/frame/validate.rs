@@ -35,7 +35,8 @@ pub struct AoInput<'a> {
     /// viewport grown by the band, the viewport at (band, band). Beyond
     /// [`crate::constants::GUARD_AO_MARGIN`] working texels of the viewport (without a
     /// history) the AO pass skips the band: AO 1 and zero bent normals there.
-    /// [`crate::Lights`] and [`crate::Ssdo`] refuse frames with a band.
+    /// [`crate::Lights`] and [`crate::Ssdo`] shade and merge the band too and output the
+    /// viewport alone.
     pub guard_band: u32,
     /// The second depth layer ([`AoOptions::second_layer`]): per pixel the depth of the
     /// nearest front-facing surface behind the first layer's, peeled at least the thickness

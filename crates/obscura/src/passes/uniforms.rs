@@ -305,19 +305,6 @@ impl FrameUniforms {
         }
     }
 
-    /// Refuses a frame with a guard band ([`crate::AoInput::guard_band`]) for `what`, a
-    /// pass that shades the whole processed rectangle and does not crop.
-    pub fn refuse_guard_band(&self, what: &'static str) -> Result<()> {
-        if self.output_offset == [0, 0] && self.output_size == self.size {
-            return Ok(());
-        }
-        Err(crate::Error::InvalidSetting {
-            field: "guard_band",
-            value: format!("{} px", self.output_offset[0]),
-            expected: what,
-        })
-    }
-
     /// The [`crate::Linearize`] these uniforms encode (for the CPU reference).
     pub fn linearize(&self) -> crate::Linearize {
         crate::Linearize {

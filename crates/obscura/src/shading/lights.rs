@@ -139,6 +139,7 @@ struct Pipelines {
 #[derive(Debug)]
 struct Sized {
     size: [u32; 2],
+    output_size: [u32; 2],
     prepared: wgpu::Texture,
     split: u32,
     lit: wgpu::Texture,
@@ -164,10 +165,15 @@ pub struct Lights {
 
 /// The merge's two passes over `period` (along x, writing packed texels; along y, writing
 /// irradiance), from packed texels only: geometry and irradiance in one fetch. Shared by
-/// [`Lights`] and the SSDO bounce ([`crate::Ssdo`]).
-pub(crate) fn compile_merge(device: &wgpu::Device, period: u32) -> [Compiled; 2] {
+/// [`Lights`] and the SSDO bounce ([`crate::Ssdo`]). With `crops` the pass along y stores
+/// the viewport alone (lit_out_plain.wgsl's CROPS: Lights' output; the bounce keeps the
+/// processed rectangle for the combine).
+pub(crate) fn compile_merge(device: &wgpu::Device, period: u32, crops: bool) -> [Compiled; 2] {
     [0.0, 1.0].map(|axis| {
-        let c = [("PERIOD", period as f64), ("AXIS", axis)];
+        let mut c = vec![("PERIOD", period as f64), ("AXIS", axis)];
+        if axis == 1.0 {
+            c.push(("CROPS", crops as u32 as f64));
+        }
         let pass = Pass::LightsMerge {
             packed_out: axis == 0.0,
         };
@@ -175,22 +181,25 @@ pub(crate) fn compile_merge(device: &wgpu::Device, period: u32) -> [Compiled; 2]
     })
 }
 
-/// The textures of interleaved shading and its merge at `dims`: the raw shading (packed
-/// where `merges`, else irradiance) and, where `merges`, the merge's output along x
-/// (packed) and along y (irradiance). Shared by [`Lights`] and the SSDO bounce.
+/// The textures of interleaved shading and its merge at `dims` (the processed rectangle):
+/// the raw shading (packed where `merges`, else irradiance) and, where `merges`, the
+/// merge's output along x (packed) and along y (irradiance). The last of them, the output,
+/// is `out_dims` (the viewport; `dims` without a guard band). Shared by [`Lights`] and the
+/// SSDO bounce.
 pub(crate) fn make_lit_textures(
     device: &wgpu::Device,
     label: &str,
-    dims: (u32, u32),
+    (dims, out_dims): ((u32, u32), (u32, u32)),
     merges: bool,
 ) -> (wgpu::Texture, Option<[wgpu::Texture; 2]>) {
-    let raw = make_texture(device, label, dims, 1, 1, lit_format(merges));
+    let raw_dims = if merges { dims } else { out_dims };
+    let raw = make_texture(device, label, raw_dims, 1, 1, lit_format(merges));
     let merged = merges.then(|| {
-        [(" merged x", true), (" merged", false)].map(|(what, packed)| {
+        [(" merged x", true, dims), (" merged", false, out_dims)].map(|(what, packed, d)| {
             make_texture(
                 device,
                 &format!("{label}{what}"),
-                dims,
+                d,
                 1,
                 1,
                 lit_format(packed),
@@ -265,12 +274,16 @@ impl Lights {
             (options.layered && options.period > 1) as u32 as f64,
         ));
         let packed = options.merges();
+        if !packed {
+            // The shading is the output: it crops a guard band away.
+            shade_constants.push(("CROPS", 1.0));
+        }
         let shade = compile_with(
             device,
             Pass::LightsShade { layers, packed },
             &shade_constants,
         );
-        let merge = packed.then(|| compile_merge(device, options.period));
+        let merge = packed.then(|| compile_merge(device, options.period, true));
         Pipelines {
             split,
             shade,
@@ -286,7 +299,10 @@ impl Lights {
     /// Records the shading (and the merge) of `lights` over `prepared` at `frame.size` (for
     /// example [`crate::Ao::prepared_source`] after the AO's frame, with the
     /// `FrameUniforms` its [`crate::Ao::validate`] returned; a plain texture converts to
-    /// [`Prepared::Full`]). Everything is checked before any GPU work.
+    /// [`Prepared::Full`]). With a guard band ([`crate::AoInput::guard_band`]) the band is
+    /// shaded and merged too, so the merge reads it beside the viewport's edges, and the
+    /// output holds the viewport alone (`frame.output_size`). Everything is checked before
+    /// any GPU work.
     pub fn record<'p>(
         &mut self,
         device: &wgpu::Device,
@@ -297,7 +313,6 @@ impl Lights {
         lights: &[PointLight],
     ) -> Result<()> {
         let prepared = prepared.into();
-        frame.refuse_guard_band("0: Lights shades frames without a guard band")?;
         if lights.len() > LIGHTS_MAX as usize {
             return Err(Error::InvalidSetting {
                 field: "lights",
@@ -318,7 +333,7 @@ impl Lights {
             self.pipelines.push(compiled);
         }
         let size = frame.size;
-        self.ensure_sized(device, prepared, size)?;
+        self.ensure_sized(device, prepared, (size, frame.output_size))?;
         let (Some(sized), Some(pipelines)) = (
             &self.sized,
             self.pipelines.iter().find(|p| p.split == split),
@@ -362,19 +377,21 @@ impl Lights {
         Ok(())
     }
 
-    /// Makes the textures and bind groups for `prepared` at `size` unless they exist.
+    /// Makes the textures and bind groups for `prepared` at `size` with an output of
+    /// `output_size` unless they exist.
     fn ensure_sized(
         &mut self,
         device: &wgpu::Device,
         prepared: Prepared<'_>,
-        size: [u32; 2],
+        (size, output_size): ([u32; 2], [u32; 2]),
     ) -> Result<()> {
         let (texture, split) = (prepared.texture(), prepared.split());
-        if self
-            .sized
-            .as_ref()
-            .is_some_and(|s| s.size == size && s.prepared == *texture && s.split == split)
-        {
+        if self.sized.as_ref().is_some_and(|s| {
+            s.size == size
+                && s.output_size == output_size
+                && s.prepared == *texture
+                && s.split == split
+        }) {
             return Ok(());
         }
         let Some(pipelines) = self.pipelines.iter().find(|p| p.split == split) else {
@@ -382,7 +399,7 @@ impl Lights {
         };
         self.sized = None;
         let scope = ErrorScope::push(device);
-        let dims = (size[0], size[1]);
+        let dims = ((size[0], size[1]), (output_size[0], output_size[1]));
         let (lit, merged) =
             make_lit_textures(device, "obscura lit", dims, pipelines.merge.is_some());
         let prepared_view = texture.create_view(&wgpu::TextureViewDescriptor {
@@ -443,6 +460,7 @@ impl Lights {
         self.created += 2 + 4 * merged.is_some() as u32;
         self.sized = Some(Sized {
             size,
+            output_size,
             prepared: texture.clone(),
             split,
             lit,
@@ -454,7 +472,8 @@ impl Lights {
     }
 
     /// The result of the last frame: merged irradiance, or the raw shading when nothing
-    /// merges (`vec4(rgb, 1)`, [`crate::passes::constants::LIT_FORMAT`]). `None` before the first frame.
+    /// merges (`vec4(rgb, 1)`, [`crate::passes::constants::LIT_FORMAT`]), the viewport's
+    /// size (without the guard band). `None` before the first frame.
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()
@@ -463,7 +482,8 @@ impl Lights {
 
     /// The raw shading before the merge (each pixel its class's lights, × period²): where
     /// the passes merge, packed with each pixel's geometry ([`crate::passes::constants::LIT_PACKED_FORMAT`];
-    /// [`crate::reference::unpack_lit`] decodes it), else as [`Lights::output`].
+    /// [`crate::reference::unpack_lit`] decodes it) over the processed rectangle (the guard
+    /// band included), else as [`Lights::output`].
     pub fn raw(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().map(|s| &s.lit)
     }

@@ -112,7 +112,8 @@ impl SsdoOptions {
     }
 }
 
-/// What [`Ssdo::record`] reads, all at the frame's size.
+/// What [`Ssdo::record`] reads, at the frame's processed size (`frame.size`, the guard band
+/// included) but for the AO, at its output's (`frame.output_size`).
 #[derive(Clone, Copy, Debug)]
 pub struct SsdoInputs<'a> {
     /// Linear depth and view normals ([`crate::Ao::prepared_source`]).
@@ -136,9 +137,10 @@ pub struct SsdoLighting {
 }
 
 impl SsdoInputs<'_> {
-    fn validate(&self, size: [u32; 2]) -> Result<()> {
+    fn validate(&self, size: [u32; 2], output_size: [u32; 2]) -> Result<()> {
         self.prepared.validate(size)?;
         let check = |what, t: &wgpu::Texture, format: Option<wgpu::TextureFormat>| {
+            let size = if what == "ao" { output_size } else { size };
             let float = matches!(
                 t.format().sample_type(None, None),
                 Some(wgpu::TextureSampleType::Float { .. })
@@ -188,6 +190,7 @@ struct Pipelines {
 #[derive(Debug, PartialEq)]
 struct Key {
     size: [u32; 2],
+    output_size: [u32; 2],
     split: u32,
     prepared: wgpu::Texture,
     albedo: wgpu::Texture,
@@ -263,7 +266,8 @@ impl Ssdo {
             Pass::SsdoBounce { layers, packed },
             &bounce_constants,
         );
-        let merge = packed.then(|| crate::shading::lights::compile_merge(device, options.period));
+        let merge =
+            packed.then(|| crate::shading::lights::compile_merge(device, options.period, false));
         let split_only: Vec<_> = constants
             .iter()
             .filter(|c| c.0 == "SPLIT")
@@ -295,8 +299,7 @@ impl Ssdo {
         frame: &FrameUniforms,
         lighting: &SsdoLighting,
     ) -> Result<()> {
-        frame.refuse_guard_band("0: Ssdo shades frames without a guard band")?;
-        inputs.validate(frame.size)?;
+        inputs.validate(frame.size, frame.output_size)?;
         let finite = lighting
             .irradiance
             .coefficients
@@ -318,7 +321,7 @@ impl Ssdo {
             self.created += 2 + 2 * self.options.merges() as u32;
             self.pipelines.push(compiled);
         }
-        self.ensure_sized(device, &inputs, frame.size)?;
+        self.ensure_sized(device, &inputs, (frame.size, frame.output_size))?;
         let (Some(sized), Some(pipelines)) = (
             &self.sized,
             self.pipelines.iter().find(|p| p.split == split),
@@ -358,7 +361,8 @@ impl Ssdo {
         }
         pass.set_pipeline(&pipelines.combine.pipeline);
         pass.set_bind_group(0, &sized.combine_group, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        let (ox, oy) = dispatch_size(frame.output_size);
+        pass.dispatch_workgroups(ox, oy, 1);
         Ok(())
     }
 
@@ -366,10 +370,11 @@ impl Ssdo {
         &mut self,
         device: &wgpu::Device,
         inputs: &SsdoInputs<'_>,
-        size: [u32; 2],
+        (size, output_size): ([u32; 2], [u32; 2]),
     ) -> Result<()> {
         let key = Key {
             size,
+            output_size,
             split: inputs.prepared.split(),
             prepared: inputs.prepared.texture().clone(),
             albedo: inputs.albedo.clone(),
@@ -385,13 +390,15 @@ impl Ssdo {
         self.sized = None;
         let scope = ErrorScope::push(device);
         let dims = (size[0], size[1]);
+        // The bounce keeps the processed rectangle; the combine crops to the output.
         let (bounce, merged) = crate::shading::lights::make_lit_textures(
             device,
             "obscura ssdo bounce",
-            dims,
+            (dims, dims),
             pipelines.merge.is_some(),
         );
-        let output = make_texture(device, "obscura ssdo", dims, 1, 1, LIT_FORMAT);
+        let output_dims = (output_size[0], output_size[1]);
+        let output = make_texture(device, "obscura ssdo", output_dims, 1, 1, LIT_FORMAT);
         let prepared = key.prepared.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(if key.split > 0 {
                 wgpu::TextureViewDimension::D2Array
@@ -480,13 +487,15 @@ impl Ssdo {
     }
 
     /// The last frame's radiance: `vec4(albedo · (V · E(b) + bounce), 1)` on surfaces, 0 on
-    /// sky ([`LIT_FORMAT`]). `None` before the first frame.
+    /// sky ([`LIT_FORMAT`]), the viewport's size (without the guard band). `None` before
+    /// the first frame.
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().map(|s| &s.output)
     }
 
-    /// The last frame's bounce irradiance (before the albedo), merged where it merges;
-    /// `None` before the first frame or without [`SsdoOptions::bounce`].
+    /// The last frame's bounce irradiance (before the albedo), merged where it merges, over
+    /// the processed rectangle (the guard band included); `None` before the first frame or
+    /// without [`SsdoOptions::bounce`].
     pub fn bounce(&self) -> Option<&wgpu::Texture> {
         self.sized
             .as_ref()

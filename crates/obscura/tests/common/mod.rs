@@ -60,3 +60,40 @@ pub fn assert_packed_merge(got: &[glam::Vec3], want: &[glam::Vec3], what: &str) 
         "{what}: merge off by {worst} (mean {mean}, step {step})"
     );
 }
+
+/// The frame of a `w` × `h` viewport inside a guard band of `g` pixels on every side, and
+/// the same uniforms with the whole processed rectangle as the output (the frame "without
+/// a band" that a banded pass must crop to).
+#[allow(dead_code)] // gpu/lights.rs and gpu/ssdo.rs, not device_lost.rs
+pub fn banded_frames(
+    projection: &Projection,
+    params: &obscura::AoParams,
+    (w, h, g): (u32, u32, u32),
+) -> (
+    obscura::uniforms::FrameUniforms,
+    obscura::uniforms::FrameUniforms,
+) {
+    let viewport = obscura::Viewport {
+        x: g,
+        y: g,
+        width: w,
+        height: h,
+    };
+    let banded = obscura::uniforms::FrameUniforms::new(
+        projection,
+        DepthConvention::LinearView,
+        None,
+        (viewport, g),
+        &obscura::AoOptions::default(),
+        params,
+    )
+    .unwrap();
+    assert_eq!(banded.size, [w + 2 * g, h + 2 * g]);
+    assert_eq!((banded.output_offset, banded.output_size), ([g, g], [w, h]));
+    let whole = obscura::uniforms::FrameUniforms {
+        output_offset: [0, 0],
+        output_size: banded.size,
+        ..banded
+    };
+    (banded, whole)
+}

@@ -157,37 +157,39 @@ fn relative_rms(got: &[Vec3], want: &[Vec3], mask: &[bool]) -> f32 {
     ((se / n).sqrt() / (sum / n)) as f32
 }
 
-/// A floor, a back wall and a box's front face, sky in the top corners.
+/// A floor, a back wall and a box's front face.
+fn planes() -> [Plane; 3] {
+    [
+        Plane {
+            point: Vec3::new(0.0, -1.0, 0.0),
+            n: Vec3::Y,
+        },
+        Plane {
+            point: Vec3::new(0.0, 0.0, -8.0),
+            n: Vec3::Z,
+        },
+        Plane {
+            point: Vec3::new(0.0, 0.0, -4.0),
+            n: Vec3::new(0.3, 0.2, 1.0).normalize(),
+        },
+    ]
+}
+
+/// planes(), sky in the top corners.
 fn scene(f: &FrameUniforms) -> Vec<Vec4> {
-    prepared(
-        f,
-        &[
-            Plane {
-                point: Vec3::new(0.0, -1.0, 0.0),
-                n: Vec3::Y,
-            },
-            Plane {
-                point: Vec3::new(0.0, 0.0, -8.0),
-                n: Vec3::Z,
-            },
-            Plane {
-                point: Vec3::new(0.0, 0.0, -4.0),
-                n: Vec3::new(0.3, 0.2, 1.0).normalize(),
-            },
-        ],
-    )
-    .into_iter()
-    .enumerate()
-    .map(|(i, v)| {
-        let (x, y) = (i as u32 % f.size[0], i as u32 / f.size[0]);
-        let corner = y < 4 && !(8..f.size[0] - 8).contains(&x);
-        if corner || v.x > 6.0 && v.z > 0.9 && x < 10 {
-            Vec4::ZERO
-        } else {
-            v
-        }
-    })
-    .collect()
+    prepared(f, &planes())
+        .into_iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let (x, y) = (i as u32 % f.size[0], i as u32 / f.size[0]);
+            let corner = y < 4 && !(8..f.size[0] - 8).contains(&x);
+            if corner || v.x > 6.0 && v.z > 0.9 && x < 10 {
+                Vec4::ZERO
+            } else {
+                v
+            }
+        })
+        .collect()
 }
 
 #[test]
@@ -237,6 +239,81 @@ fn shading_and_merge_match_cpu_reference_for_every_period() {
             common::assert_packed_merge(&out, &want, &format!("period {period}"));
         } else {
             assert_eq!(out, raw, "period 1 has no merge");
+        }
+    }
+}
+
+/// A guard band of `G` pixels: the passes shade and merge the processed rectangle (the
+/// viewport and the band) and store the viewport alone. The output is exactly the crop of
+/// the same frame without a band, that is, with the same uniforms but the whole rectangle
+/// as the output, for every period and layout, so the merge near the viewport's edges
+/// reads the band's shading. A frame run without its band (the viewport's own prepared
+/// buffer and projection; a band of 8, a multiple of every period, keeps each pixel's
+/// class) agrees with it farther than a period from the edges (1e-4 of the mean, the
+/// two projections' rounding) and differs within a period of them when the passes merge.
+#[test]
+fn a_guard_band_is_shaded_merged_and_cropped() {
+    let _g = lock();
+    const G: u32 = 8;
+    let (banded, whole) =
+        common::banded_frames(&perspective(W, H), &AoParams::default(), (W, H, G));
+    // Geometry alone (scene()'s sky corners sit at pixel positions, which the band moves).
+    let tex = upload(&banded, &prepared(&banded, &planes()));
+    let ls = lights(
+        150,
+        Vec3::new(-4.0, -0.8, -9.0),
+        Vec3::new(4.0, 3.0, -1.0),
+        6.0,
+        3,
+    );
+    let crop = |v: &[Vec3]| -> Vec<Vec3> {
+        let bw = banded.size[0] as usize;
+        (0..H as usize)
+            .flat_map(|y| (0..W as usize).map(move |x| (x, y)))
+            .map(|(x, y)| v[(y + G as usize) * bw + x + G as usize])
+            .collect()
+    };
+    for (period, layered) in [(1, false), (2, false), (4, true), (8, false)] {
+        let options = LightsOptions {
+            period,
+            layered,
+            merge: true,
+        };
+        let (out, _) = run(&banded, &tex, options, &ls);
+        assert_eq!(out.len(), (W * H) as usize, "period {period}: the viewport");
+        let (want, _) = run(&whole, &tex, options, &ls);
+        assert!(
+            out == crop(&want),
+            "period {period}, layered {layered}: not the crop of the whole rectangle"
+        );
+        if period > 1 {
+            // Without the band the merge near the edges has only the viewport's taps.
+            let own = frame(W, H);
+            let own_tex = upload(&own, &prepared(&own, &planes()));
+            let (alone, _) = run(&own, &own_tex, options, &ls);
+            let n = period as usize;
+            let edge = |i: usize| {
+                let (x, y) = (i % W as usize, i / W as usize);
+                x < n || y < n || x + n >= W as usize || y + n >= H as usize
+            };
+            let part = |at_edge: bool| -> (Vec<Vec3>, Vec<Vec3>) {
+                (0..out.len())
+                    .filter(|&i| edge(i) == at_edge)
+                    .map(|i| (alone[i], out[i]))
+                    .unzip()
+            };
+            let (a, b) = part(false);
+            let inner = relative_max(&a, &b);
+            assert!(
+                inner < 1e-4,
+                "period {period}: inner pixels differ by {inner}"
+            );
+            let (a, b) = part(true);
+            let at_edges = relative_max(&a, &b);
+            assert!(
+                at_edges > 1e-3,
+                "period {period}: the band changed nothing at the edges ({at_edges})"
+            );
         }
     }
 }

@@ -120,7 +120,8 @@ fn run(
     let data: Vec<[f32; 4]> = prepared.iter().map(|v| v.to_array()).collect();
     let prepared_tex = c.upload_rgba32("test prepared", &data, w, h);
     let albedo_tex = c.upload_rgba32("test albedo", &rgba(albedo), w, h);
-    let ao_tex = common::upload_r32(c, ao, w, h);
+    // The AO is the output's size (the viewport's, inside a guard band).
+    let ao_tex = common::upload_r32(c, ao, f.output_size[0], f.output_size[1]);
     let bent_tex = bent.map(|b| c.upload_rgba32("test bent", &rgba(b), w, h));
     let mut s = Ssdo::new(&c.device, options).unwrap();
     let inputs = SsdoInputs {
@@ -187,6 +188,63 @@ fn coloured_scene(f: &FrameUniforms) -> (Vec<Vec4>, Vec<Vec3>) {
         a[i] = Vec3::ZERO;
     }
     (p, a)
+}
+
+/// A guard band of `G` pixels: the bounce and its merge cover the processed rectangle (the
+/// viewport and the band) and the combine reads the AO at the output's size and the rest
+/// at the output pixel plus the band. The radiance is exactly the crop of the same frame
+/// without a band (the same uniforms, the whole rectangle as the output, the AO over it),
+/// and the bounce is the same texture, for every period.
+#[test]
+fn a_guard_band_is_bounced_and_cropped() {
+    let _g = lock();
+    const G: u32 = 8;
+    let params = AoParams {
+        radius: 1.5,
+        ..AoParams::default()
+    };
+    let projection = Projection::Perspective {
+        fov_y: 60f32.to_radians(),
+        aspect: W as f32 / H as f32,
+        near: 0.1,
+        far: 100.0,
+    };
+    let (banded, whole) = common::banded_frames(&projection, &params, (W, H, G));
+    let (p, albedo) = coloured_scene(&banded);
+    let light = lighting(&Environment::Gradient {
+        sky: [1.0, 0.9, 0.7],
+        ground: [0.2, 0.3, 0.4],
+    });
+    let ao: Vec<f32> = (0..p.len())
+        .map(|i| 0.3 + 0.7 * ((i * 37) % 11) as f32 / 10.0)
+        .collect();
+    let bw = banded.size[0] as usize;
+    let crop = |i: usize| (i / W as usize + G as usize) * bw + i % W as usize + G as usize;
+    let ao_view: Vec<f32> = (0..(W * H) as usize).map(|i| ao[crop(i)]).collect();
+    for period in [1, 2, 4] {
+        let options = SsdoOptions {
+            bounce: true,
+            period,
+            directions: 2,
+            steps: 4,
+        };
+        let got = run(&banded, &p, &albedo, &ao_view, None, options, &light);
+        let want = run(&whole, &p, &albedo, &ao, None, options, &light);
+        assert_eq!(got.output.len(), (W * H) as usize, "period {period}");
+        assert!(got.bounce == want.bounce, "period {period}: the bounce");
+        let cropped: Vec<Vec3> = (0..(W * H) as usize)
+            .map(|i| want.output[crop(i)])
+            .collect();
+        assert!(
+            got.output == cropped,
+            "period {period}: not the crop of the whole rectangle"
+        );
+        let lit = got.bounce.iter().filter(|b| b.max_element() > 0.01).count();
+        assert!(
+            lit > 50,
+            "period {period}: only {lit} pixels receive a bounce"
+        );
+    }
 }
 
 #[test]

@@ -116,7 +116,7 @@ pub struct RenderArgs {
         value_name = "PX",
         default_value_t = 0,
         value_parser = clap::value_parser!(u32).range(0..=1024),
-        conflicts_with_all = ["depth", "orbit", "ssdo", "depth_out", "normals_out", "bent_normals_out"]
+        conflicts_with_all = ["depth", "orbit", "depth_out", "normals_out", "bent_normals_out"]
     )]
     pub guard_band: u32,
     /// Peel a second depth layer (the nearest front face at least --thickness × the radius

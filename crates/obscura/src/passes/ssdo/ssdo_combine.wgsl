@@ -10,15 +10,19 @@
 @group(0) @binding(6) var bounce_in: texture_2d<f32>;
 @group(0) @binding(7) var radiance_out: texture_storage_2d<rgba32float, write>;
 
+// One invocation per output pixel `o`: with a guard band (crate::AoInput::guard_band) the
+// inputs but the AO cover the processed rectangle, and `o` reads them at
+// `p = o + frame.output_offset`; the AO and the radiance are the output's size.
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if any(gid.xy >= frame.size) {
+    if any(gid.xy >= frame.output_size) {
         return;
     }
-    let p = vec2<i32>(gid.xy);
+    let o = vec2<i32>(gid.xy);
+    let p = o + vec2<i32>(frame.output_offset);
     let centre = prepared_at(p);
     if !(centre.x > 0.0) {
-        textureStore(radiance_out, p, vec4<f32>(0.0));
+        textureStore(radiance_out, o, vec4<f32>(0.0));
         return;
     }
     var dir = centre.yzw;
@@ -28,9 +32,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             dir = normalize(b);
         }
     }
-    var e = textureLoad(ao_in, p, 0).x * env_irradiance(dir);
+    var e = textureLoad(ao_in, o, 0).x * env_irradiance(dir);
     if ssdo.flags.y != 0u {
         e += textureLoad(bounce_in, p, 0).xyz;
     }
-    textureStore(radiance_out, p, vec4<f32>(albedo_at(p) * e, 1.0));
+    textureStore(radiance_out, o, vec4<f32>(albedo_at(p) * e, 1.0));
 }
