@@ -60,9 +60,11 @@ pub enum Estimator {
     /// a 32-bit field of occluded sectors instead of two horizons. A sample occludes the
     /// sectors between its front (the depth seen) and its back (the front pushed away
     /// from the camera by [`AoParams::thickness`]), so thin objects no longer cast the
-    /// shadow of an infinitely deep wall. Sectors are equal shares of the slice's
-    /// cosine-weighted integral, so with infinite thickness it is GTAO up to the 1/32
-    /// quantisation (passes/estimators/bitmask.wgsl). Samples/pixel = 2 × directions × steps.
+    /// shadow of an infinitely deep wall. Sectors are equal steps of a pseudo-angle (a
+    /// division instead of an arc cosine) and a slice's visibility is the cosine-weighted
+    /// integral between the edges of its clear runs, so with infinite thickness it is GTAO
+    /// with each horizon rounded to a sector edge (passes/estimators/bitmask.wgsl).
+    /// Samples/pixel = 2 × directions × steps.
     Bitmask,
 }
 

@@ -80,9 +80,9 @@ fn bitmask_matches_its_mirror_for_every_model() {
 }
 
 /// With infinitely thick surfaces a slice's occluded sectors are those beyond its horizons,
-/// so the bitmask is GTAO but for rounding each horizon to the nearest of 32 equal shares
-/// of the slice's integral: at most 1/64 of a slice per side, 1/32 of the AO. Tolerance:
-/// every pixel within 0.04 of GTAO, the mean within 0.005.
+/// so the bitmask is GTAO but for rounding each horizon to the nearest sector edge: half a
+/// sector, at most 0.04 of a slice's integral per side (a sector is 3.6° to 7.2°), with no
+/// sign. Tolerance: every pixel within 0.04 of GTAO, the mean within 0.005.
 #[test]
 fn infinitely_thick_bitmask_is_gtao() {
     let _g = lock();

@@ -169,8 +169,9 @@ fn guard_band_is_the_crop_of_the_widened_frame() {
             let d = max_diff(&got, &want);
             // The bitmask's sectors are a step function: a rounding-level difference in
             // the uniforms can move one sample across a sector's edge, which changes that
-            // pixel by one sector of one slice (1/32 of it at most; 1 pixel of 3,015 by
-            // 0.0085 measured with 3 × 5 crowded steps). Such pixels may be 0.2% of them.
+            // pixel by one sector of one slice (at most 0.08 of a slice's integral, 0.027
+            // of the AO with 3 slices; 1 pixel of 3,015 by 0.0085 measured with 3 × 5
+            // crowded steps). Such pixels may be 0.2% of them.
             let off = got
                 .iter()
                 .zip(&want)

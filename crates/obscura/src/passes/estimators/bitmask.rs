@@ -1,33 +1,13 @@
 //! CPU mirror of the visibility-bitmask estimator (passes/estimators/bitmask.wgsl; same
 //! names, the same arithmetic, which the shader reorders to project once per sample).
 
-use super::{fast_acos, gtao_slice, GtaoSlice, Pixels, Surface};
+use super::{gtao_slice, GtaoSlice, Pixels, Surface};
 use crate::passes::prepare::centre;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Sectors per slice: the bits of a `u32`.
 const SECTORS: f32 = 32.0;
-
-/// Mirrors `slice_cumulative` in bitmask.wgsl (which takes the unit in-slice direction,
-/// `c` its cosine): the slice's running cosine-weighted integral from 0 to `s · acos(c)`,
-/// clamped to the normal's hemisphere.
-pub(crate) fn slice_cumulative(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let t = s * fast_acos(c) - n;
-    let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
-    let sin_h = s * (1.0 - c * c).max(0.0).sqrt();
-    let cos_2h_n = if t.abs() > FRAC_PI_2 {
-        -cos_n
-    } else {
-        (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
-    };
-    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
-    if h < 0.0 {
-        -g
-    } else {
-        g
-    }
-}
 
 /// Mirrors `slice_edge` in bitmask.wgsl.
 pub(crate) fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
@@ -65,49 +45,55 @@ fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> Vec2 {
     }
 }
 
-/// Knots of the angle-from-share interpolation (`BENT_KNOTS` in bitmask.wgsl).
-const BENT_KNOTS: usize = 8;
+/// Mirrors `sector_of` in bitmask.wgsl: the sector position (0 to 32, in equal steps of the
+/// pseudo-angle a / (|a| + b), a along `tangent`, b along `normal2`) of the in-slice
+/// direction `w` (ortho, V) on side `s`; below the hemisphere, the side's edge.
+pub(crate) fn sector_of(w: Vec2, s: f32, tangent: Vec2, normal2: Vec2) -> f32 {
+    let ws = Vec2::new(s * w.x.abs(), w.y);
+    let (a, b) = (ws.dot(tangent), ws.dot(normal2));
+    let p = if b <= 0.0 { s } else { a / (a.abs() + b) };
+    (p + 1.0) * (0.5 * SECTORS)
+}
+
+/// Mirrors `edge_angle` in bitmask.wgsl: the slice angle of sector edge `k` (0 to 32).
+pub(crate) fn edge_angle(k: u32, n: f32) -> f32 {
+    let p = k as f32 * (2.0 / SECTORS) - 1.0;
+    n + p.atan2(1.0 - p.abs())
+}
+
+/// The runs of set bits of `bits`, lowest first, each `[start, end)` (`lowest_run` in
+/// bitmask.wgsl).
+fn runs(mut bits: u32) -> impl Iterator<Item = (u32, u32)> {
+    std::iter::from_fn(move || {
+        if bits == 0 {
+            return None;
+        }
+        let start = bits.trailing_zeros();
+        let end = (bits | ((1u32 << start) - 1)).trailing_ones();
+        bits &= !sector_bits(start, end);
+        Some((start, end))
+    })
+}
+
+/// Mirrors `sectors_integral` in bitmask.wgsl: the slice's cosine-weighted integral over
+/// the sectors set in `bits`, exact between the sector edges.
+pub(crate) fn sectors_integral(bits: u32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    runs(bits)
+        .map(|(a, b)| {
+            slice_at(edge_angle(b, n), n, cos_n, sin_n)
+                - slice_at(edge_angle(a, n), n, cos_n, sin_n)
+        })
+        .sum()
+}
 
 /// Mirrors `bitmask_bent` in bitmask.wgsl: the slice's bent-normal integral over its runs
 /// of clear sectors, in (ortho, V) coordinates.
-pub(crate) fn bitmask_bent(
-    occluded: u32,
-    n: f32,
-    cos_n: f32,
-    sin_n: f32,
-    lower: f32,
-    total: f32,
-) -> Vec2 {
-    let first = n - FRAC_PI_2;
-    let width = PI / BENT_KNOTS as f32;
-    let knots: [f32; BENT_KNOTS + 1] = std::array::from_fn(|i| {
-        (slice_at(first + i as f32 * width, n, cos_n, sin_n) - lower) / total.max(1e-6)
-    });
-    let mut bent = Vec2::ZERO;
-    let mut run_start: Option<f32> = None;
-    for k in 0..=32u32 {
-        let clear = k < 32 && occluded & (1 << k) == 0;
-        if clear == run_start.is_some() {
-            continue;
-        }
-        let u = k as f32 / SECTORS;
-        let mut h = first + PI;
-        for i in 0..BENT_KNOTS {
-            if u <= knots[i + 1] {
-                let t = ((u - knots[i]) / (knots[i + 1] - knots[i]).max(1e-6)).clamp(0.0, 1.0);
-                h = first + (i as f32 + t) * width;
-                break;
-            }
-        }
-        match run_start {
-            None => run_start = Some(h),
-            Some(a) => {
-                bent += bent_at(h, cos_n, sin_n) - bent_at(a, cos_n, sin_n);
-                run_start = None;
-            }
-        }
-    }
-    bent
+pub(crate) fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> Vec2 {
+    runs(!occluded)
+        .map(|(a, b)| {
+            bent_at(edge_angle(b, n), cos_n, sin_n) - bent_at(edge_angle(a, n), cos_n, sin_n)
+        })
+        .sum()
 }
 
 /// The part of a sample's solid that can occlude the centre at `pos` (view space): the
@@ -212,7 +198,7 @@ pub fn bitmask_pixel_solids(
             dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
         }
         let GtaoSlice {
-            axis,
+            axis: _,
             ortho,
             weight,
             proj_len,
@@ -225,9 +211,10 @@ pub fn bitmask_pixel_solids(
             visibility += weight;
             continue;
         }
-        let lower = slice_edge(-1.0, n, cos_n, sin_n);
-        let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
-        let to_bits = SECTORS / total.max(1e-6);
+        let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
+        let (tangent, normal2) = (Vec2::new(cos_n, -sin_n), Vec2::new(sin_n, cos_n));
+        // In-slice (ortho, V) coordinates of a point relative to the centre.
+        let in_slice = |w: Vec3| Vec2::new(w.dot(ortho), w.dot(v));
         let mut occluded = 0u32;
         for s in 0..px.steps {
             let ray = super::march_ray(
@@ -253,28 +240,23 @@ pub fn bitmask_pixel_solids(
                     let Some((front, back)) = clip_solid(f, at, pos, sd, sb) else {
                         continue;
                     };
-                    let wf = front - axis * front.dot(axis);
+                    let wf = in_slice(front);
                     if wf.dot(wf) <= 0.0 {
                         continue;
                     }
-                    let cf = (wf.dot(v) / wf.dot(wf).sqrt()).clamp(-1.0, 1.0);
-                    let uf = slice_cumulative(cf, sgn, n, cos_n, sin_n) - lower;
-                    let mut ub = if sgn > 0.0 { total } else { 0.0 };
-                    if let Some(back) = back {
-                        let wb = back - axis * back.dot(axis);
-                        if wb.dot(wb) > 0.0 {
-                            let cb = (wb.dot(v) / wb.dot(wb).sqrt()).clamp(-1.0, 1.0);
-                            ub = slice_cumulative(cb, sgn, n, cos_n, sin_n) - lower;
-                        }
+                    let uf = sector_of(wf, sgn, tangent, normal2);
+                    let mut ub = if sgn > 0.0 { SECTORS } else { 0.0 };
+                    if let Some(wb) = back.map(in_slice).filter(|wb| wb.dot(*wb) > 0.0) {
+                        ub = sector_of(wb, sgn, tangent, normal2);
                     }
-                    let bit = |u: f32| (u * to_bits).round_ties_even().clamp(0.0, SECTORS) as u32;
+                    let bit = |u: f32| u.round_ties_even().clamp(0.0, SECTORS) as u32;
                     occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
                 }
             }
         }
-        let clear = 1.0 - occluded.count_ones() as f32 / SECTORS;
-        visibility += weight * proj_len * total * clear;
-        let b = bitmask_bent(occluded, n, cos_n, sin_n, lower, total);
+        visibility +=
+            weight * proj_len * (total - sectors_integral(occluded, n, cos_n, sin_n)).max(0.0);
+        let b = bitmask_bent(occluded, n, cos_n, sin_n);
         bent += weight * proj_len * (b.x * ortho + b.y * v);
     }
     let dirs = px.directions as f32;
@@ -294,27 +276,28 @@ pub fn bitmask_pixel_solids(
 mod tests {
     use super::*;
 
-    /// With every sector clear the slice's bent integral is the whole hemisphere's, which
-    /// is gtao_bent's from one edge to the other: the knots' interpolation is exact at the
-    /// ends. With the upper half of the sectors occluded it is the lower half's alone.
+    /// With every sector clear the slice's bent integral is the whole hemisphere's,
+    /// gtao_bent's closed form from one edge to the other (the outer edges are exactly
+    /// n ∓ π/2); with none clear it is zero; the two halves' (bit 16 is the normal's
+    /// direction) add up to the whole, and the lower half is gtao_bent's from n − π/2 to n.
     #[test]
     fn bitmask_bent_integrates_the_clear_runs() {
         for &n in &[-0.9f32, 0.0, 0.4] {
             let (sin_n, cos_n) = n.sin_cos();
-            let lower = slice_edge(-1.0, n, cos_n, sin_n);
-            let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
-            let all = bitmask_bent(0, n, cos_n, sin_n, lower, total);
+            let all = bitmask_bent(0, n, cos_n, sin_n);
             let want = bent_at(n + FRAC_PI_2, cos_n, sin_n) - bent_at(n - FRAC_PI_2, cos_n, sin_n);
             assert!((all - want).length() < 1e-5, "n {n}: {all} vs {want}");
-            assert_eq!(
-                bitmask_bent(u32::MAX, n, cos_n, sin_n, lower, total),
-                Vec2::ZERO
-            );
-            let low = bitmask_bent(0xffff_0000, n, cos_n, sin_n, lower, total);
-            let high = bitmask_bent(0x0000_ffff, n, cos_n, sin_n, lower, total);
+            assert_eq!(bitmask_bent(u32::MAX, n, cos_n, sin_n), Vec2::ZERO);
+            let low = bitmask_bent(0xffff_0000, n, cos_n, sin_n);
+            let high = bitmask_bent(0x0000_ffff, n, cos_n, sin_n);
             assert!(
                 (low + high - all).length() < 1e-5,
                 "n {n}: halves {low} + {high} vs {all}"
+            );
+            let want_low = bent_at(n, cos_n, sin_n) - bent_at(n - FRAC_PI_2, cos_n, sin_n);
+            assert!(
+                (low - want_low).length() < 1e-5,
+                "n {n}: {low} vs {want_low}"
             );
         }
     }
@@ -371,40 +354,71 @@ mod tests {
         assert_eq!(sector_bits(5, 3), 0);
     }
 
-    /// The running integral between the hemisphere's edges is the slice's closed-form
-    /// total cos n + n sin n (Jimenez et al. 2016), and it is monotone in the angle, so
-    /// sectors are well ordered. Checked against a midpoint sum of cos(t − n) |sin t|.
+    /// The pseudo-angle sectors, for normals across the slice: `sector_of` rises
+    /// monotonically from 0 at the hemisphere's edge n − π/2 to 32 at n + π/2, takes each
+    /// `edge_angle(k)` to k (they invert each other within 1e-3 of a sector), and gives a
+    /// direction below the hemisphere its side's edge. `sectors_integral` over one or two
+    /// runs is the slice's measure cos(t − n) |sin t| integrated between the runs' edge
+    /// angles (a midpoint sum; within 1e-4), and over every sector the slice's closed-form
+    /// total cos n + n sin n (Jimenez et al. 2016).
     #[test]
-    fn slice_cumulative_is_the_running_cosine_weighted_integral() {
+    fn pseudo_angle_sectors_span_the_hemisphere_and_integrate_exactly() {
         for &n in &[-1.2f32, -0.5, 0.0, 0.3, 1.0, 1.5] {
             let (sin_n, cos_n) = n.sin_cos();
-            let lower = slice_edge(-1.0, n, cos_n, sin_n);
-            let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
+            let (tangent, normal2) = (Vec2::new(cos_n, -sin_n), Vec2::new(sin_n, cos_n));
+            let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
             assert!((total - (cos_n + n * sin_n)).abs() < 1e-5, "n {n}: {total}");
-            let mut prev = f32::NEG_INFINITY;
-            for k in 0..=40 {
-                let h = n - FRAC_PI_2 + PI * k as f32 / 40.0;
-                let (s, c) = if h < 0.0 {
-                    (-1.0, h.cos())
-                } else {
-                    (1.0, h.cos())
-                };
-                let got = slice_cumulative(c, s, n, cos_n, sin_n) - lower;
-                // Midpoint rule from the lower edge to h.
-                let m = 2000;
-                let lo = n - FRAC_PI_2;
-                let dt = (h - lo) / m as f32;
-                let want: f32 = (0..m)
-                    .map(|i| {
-                        let t = lo + (i as f32 + 0.5) * dt;
-                        (t - n).cos() * t.sin().abs() * dt
-                    })
-                    .sum();
-                // fast_acos's 1e-4 rad error bounds the difference.
-                assert!((got - want).abs() < 2e-3, "n {n} h {h}: {got} vs {want}");
-                assert!(got >= prev - 1e-4, "not monotone at n {n} h {h}");
-                prev = got;
+            // The unit direction at slice angle h, (ortho, V), and its side.
+            let sector = |h: f32| {
+                let s = if h < 0.0 { -1.0 } else { 1.0 };
+                sector_of(Vec2::new(h.sin(), h.cos()), s, tangent, normal2)
+            };
+            let mut prev = -1.0;
+            for i in 0..=400 {
+                let h = n - FRAC_PI_2 + PI * i as f32 / 400.0;
+                let u = sector(h);
+                assert!(u >= prev - 1e-4, "n {n}: not monotone at h {h}");
+                assert!((-1e-4..=32.0 + 1e-4).contains(&u), "n {n} h {h}: {u}");
+                prev = u;
             }
+            for k in 0..=32 {
+                let u = sector(edge_angle(k, n));
+                assert!((u - k as f32).abs() < 1e-3, "n {n}: edge {k} at {u}");
+            }
+            // Below the hemisphere, on either side.
+            if n + FRAC_PI_2 + 0.2 < PI {
+                assert_eq!(sector(n + FRAC_PI_2 + 0.2), 32.0, "n {n}");
+            }
+            if n - FRAC_PI_2 - 0.2 > -PI {
+                assert_eq!(sector(n - FRAC_PI_2 - 0.2), 0.0, "n {n}");
+            }
+            let measure = |a: u32, b: u32| -> f64 {
+                let (lo, hi) = (edge_angle(a, n) as f64, edge_angle(b, n) as f64);
+                let m = 4000;
+                let dt = (hi - lo) / m as f64;
+                (0..m)
+                    .map(|i| {
+                        let t = lo + (i as f64 + 0.5) * dt;
+                        (t - n as f64).cos() * t.sin().abs() * dt
+                    })
+                    .sum()
+            };
+            let got = sectors_integral(u32::MAX, n, cos_n, sin_n);
+            assert!((got - total).abs() < 1e-5, "n {n}: all {got} vs {total}");
+            for (a, b) in [(0, 16), (16, 32), (5, 9), (3, 4), (30, 32)] {
+                let got = sectors_integral(sector_bits(a, b), n, cos_n, sin_n) as f64;
+                let want = measure(a, b);
+                assert!(
+                    (got - want).abs() < 1e-4,
+                    "n {n} [{a}, {b}): {got} vs {want}"
+                );
+            }
+            let two = sectors_integral(sector_bits(2, 6) | sector_bits(20, 25), n, cos_n, sin_n);
+            let want = measure(2, 6) + measure(20, 25);
+            assert!(
+                (two as f64 - want).abs() < 1e-4,
+                "n {n}: two runs {two} vs {want}"
+            );
         }
     }
 }

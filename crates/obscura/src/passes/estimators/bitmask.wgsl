@@ -9,13 +9,13 @@
 // the ray-traced reference counts hits within R, and a solid whose front lies beyond R
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
 // infinitely thick solid counts where its front is within R, as in GTAO. Sky and
-// off-screen samples are ignored. The sectors are not equal angles (the paper's choice)
-// but equal shares of the slice's cosine-weighted integral (Jimenez et al. 2016, eq. 10),
-// so a slice's visibility is its unoccluded integral times the share of clear bits, and
-// with infinite thickness the estimate is GTAO's up to the 1/32 quantisation. Sector
-// edges are rounded to the nearest bit, so the quantisation has no sign. Slice weights
-// and the final mapping are GTAO's; so is the bent normal, integrated over the clear
-// sectors (`bitmask_bent`). With a second depth layer (AoOptions::second_layer) a sample
+// off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
+// costs a division where an angle costs an arc cosine (`sector_of`), and a slice's
+// visibility is the cosine-weighted integral (Jimenez et al. 2016, eq. 10) between the
+// edges of its clear runs, exact there (`sectors_integral`), so with infinite thickness
+// the estimate is GTAO's with each horizon rounded to the nearest sector edge; the
+// rounding has no sign. Slice weights and the final mapping are GTAO's; so is the bent
+// normal, integrated over the clear runs (`bitmask_bent`). With a second depth layer (AoOptions::second_layer) a sample
 // is two solids, the second from the surface behind the first (second_layer.wgsl). CPU
 // mirror: passes/estimators/bitmask.rs, `bitmask_pixel`.
 
@@ -25,20 +25,6 @@ override MARCH_EXPONENT: f32 = 1.0;
 override BENT_NORMALS: bool = false;
 
 const SECTORS: f32 = 32.0;
-
-// The slice's cosine-weighted integral from 0 to the angle h of the unit in-slice direction
-// w = (sin, cos) of h in (ortho, V) coordinates, on side s (h = s * acos(w.y), clamped to
-// the normal's hemisphere n +- pi/2), signed: the running integral D(h) of cos(t - n)
-// |sin t|, D(0) = 0. gtao_side's closed form, with the sign of h; |sin h| is |w.x|.
-fn slice_cumulative(w: vec2<f32>, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let c = clamp(w.y, -1.0, 1.0);
-    let t = s * fast_acos(c) - n;
-    let h = n + clamp(t, -HALF_PI, HALF_PI);
-    let sin_h = s * abs(w.x);
-    let cos_2h_n = select((2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n, -cos_n, abs(t) > HALF_PI);
-    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
-    return select(g, -g, h < 0.0);
-}
 
 // D at the hemisphere's edge n + e * pi/2 (e = +1 or -1), where cos(2h - n) = -cos n.
 fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
@@ -64,44 +50,70 @@ fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
     return select(f, -f, h < 0.0);
 }
 
-// The slice's share of the bent normal (Jimenez et al. 2016, sec. 5: the cosine-weighted
-// mean of the unoccluded directions), summed over the runs of clear sectors. A sector edge
-// at share u of the integral is turned back into an angle by interpolating D between
-// BENT_KNOTS + 1 angles evenly spread over the hemisphere. Mirror: `bitmask_bent`.
-const BENT_KNOTS: u32 = 8u;
+// A slice's sectors: SECTORS bits from the normal's hemisphere edge n - pi/2 (bit 0) to
+// n + pi/2, in equal steps of the pseudo-angle p = a / (|a| + b) of a direction with
+// components a along the tangent (toward the edge n + pi/2) and b along the projected
+// normal. p runs monotonically from -1 to 1 and costs one division where the angle costs
+// an arc cosine; a sector spans 3.6 degrees at the normal and the edges, 7.2 halfway.
+// The position (0 to SECTORS) of in-slice direction w, (ortho, V) coordinates, on side s;
+// below the hemisphere a direction takes its side's edge. Mirror: `sector_of`.
+fn sector_of(w: vec2<f32>, s: f32, tangent: vec2<f32>, normal2: vec2<f32>) -> f32 {
+    let ws = vec2<f32>(s * abs(w.x), w.y);
+    let a = dot(ws, tangent);
+    let b = dot(ws, normal2);
+    let p = select(a / (abs(a) + b), s, b <= 0.0);
+    return (p + 1.0) * (0.5 * SECTORS);
+}
 
-fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32, lower: f32, total: f32) -> vec2<f32> {
-    let first = n - HALF_PI;
-    let width = PI / f32(BENT_KNOTS);
-    var knots: array<f32, 9>;
-    for (var i = 0u; i <= BENT_KNOTS; i++) {
-        knots[i] = (slice_at(first + f32(i) * width, n, cos_n, sin_n) - lower) / max(total, 1e-6);
+// The slice angle of sector edge k (0 to SECTORS): direction (p, 1 - |p|) in (tangent,
+// normal) coordinates. Mirror: `edge_angle`.
+fn edge_angle(k: u32, n: f32) -> f32 {
+    let p = f32(k) * (2.0 / SECTORS) - 1.0;
+    return n + atan2(p, 1.0 - abs(p));
+}
+
+// 32 bits hold at most 16 runs of set bits: the bound of the loops over runs below
+// (counted loops, as every shader loop here; tests/gpu/shaders.rs).
+const MAX_RUNS: u32 = 16u;
+
+// The lowest run of set bits of `bits` (not 0): [start, end).
+fn lowest_run(bits: u32) -> vec2<u32> {
+    let start = firstTrailingBit(bits);
+    let filled = bits | ((1u << start) - 1u);
+    let end = select(firstTrailingBit(~filled), 32u, filled == 0xffffffffu);
+    return vec2<u32>(start, end);
+}
+
+// The slice's cosine-weighted integral over the sectors set in `bits`: the running
+// integral D at each run's edge angles, so it is exact between sector edges, whatever
+// their widths. Mirror: `sectors_integral`.
+fn sectors_integral(bits_in: u32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    var bits = bits_in;
+    var sum = 0.0;
+    for (var i = 0u; i < MAX_RUNS; i++) {
+        if bits == 0u {
+            break;
+        }
+        let r = lowest_run(bits);
+        sum += slice_at(edge_angle(r.y, n), n, cos_n, sin_n) - slice_at(edge_angle(r.x, n), n, cos_n, sin_n);
+        bits &= ~sector_bits(r.x, r.y);
     }
+    return sum;
+}
+
+// The slice's share of the bent normal (Jimenez et al. 2016, sec. 5: the cosine-weighted
+// mean of the unoccluded directions): gtao_bent's closed form between the edge angles of
+// each run of clear sectors. Mirror: `bitmask_bent`.
+fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
+    var bits = ~occluded;
     var bent = vec2<f32>(0.0);
-    var run_start = 0.0;
-    var start = -1;
-    for (var k = 0; k <= 32; k++) {
-        let clear = k < 32 && (occluded & (1u << u32(k))) == 0u;
-        if clear == (start >= 0) {
-            continue;
+    for (var i = 0u; i < MAX_RUNS; i++) {
+        if bits == 0u {
+            break;
         }
-        // An edge of a clear run: its angle from its share of the integral.
-        let u = f32(k) / SECTORS;
-        var h = first + PI;
-        for (var i = 0u; i < BENT_KNOTS; i++) {
-            if u <= knots[i + 1u] {
-                let t = clamp((u - knots[i]) / max(knots[i + 1u] - knots[i], 1e-6), 0.0, 1.0);
-                h = first + (f32(i) + t) * width;
-                break;
-            }
-        }
-        if clear {
-            start = k;
-            run_start = h;
-        } else {
-            bent += bent_at(h, cos_n, sin_n) - bent_at(run_start, cos_n, sin_n);
-            start = -1;
-        }
+        let r = lowest_run(bits);
+        bent += bent_at(edge_angle(r.y, n), cos_n, sin_n) - bent_at(edge_angle(r.x, n), cos_n, sin_n);
+        bits &= ~sector_bits(r.x, r.y);
     }
     return bent;
 }
@@ -150,11 +162,10 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let n = slice.n;
         let cos_n = slice.cos_n;
         let sin_n = slice.sin_n;
-        // The slice's integral runs from D(n - pi/2) to D(n + pi/2); bit k is the k-th 1/32
-        // of it.
-        let lower = slice_edge(-1.0, n, cos_n, sin_n);
-        let total = slice_edge(1.0, n, cos_n, sin_n) - lower;
-        let to_bits = SECTORS / max(total, 1e-6);
+        // The slice's integral runs from D(n - pi/2) to D(n + pi/2).
+        let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
+        let tangent = vec2<f32>(cos_n, -sin_n);
+        let normal2 = vec2<f32>(sin_n, cos_n);
         var occluded = 0u;
         for (var s = 0u; s < STEPS; s++) {
             let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell(), MARCH_EXPONENT));
@@ -222,25 +233,21 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     if !inside || lf <= 0.0 {
                         continue;
                     }
-                    let uf = slice_cumulative(wf * inverseSqrt(lf), sgn, n, cos_n, sin_n) - lower;
+                    let uf = sector_of(wf, sgn, tangent, normal2);
                     // Infinitely thick: the solid reaches the hemisphere's edge on this side.
-                    var ub = select(0.0, total, sgn > 0.0);
-                    if thickness > 0.0 {
-                        let lb = dot(wb, wb);
-                        if lb > 0.0 {
-                            ub = slice_cumulative(wb * inverseSqrt(lb), sgn, n, cos_n, sin_n) - lower;
-                        }
+                    var ub = select(0.0, SECTORS, sgn > 0.0);
+                    if thickness > 0.0 && dot(wb, wb) > 0.0 {
+                        ub = sector_of(wb, sgn, tangent, normal2);
                     }
-                    let a = u32(clamp(round(min(uf, ub) * to_bits), 0.0, SECTORS));
-                    let b = u32(clamp(round(max(uf, ub) * to_bits), 0.0, SECTORS));
+                    let a = u32(clamp(round(min(uf, ub)), 0.0, SECTORS));
+                    let b = u32(clamp(round(max(uf, ub)), 0.0, SECTORS));
                     occluded |= sector_bits(a, b);
                 }
             }
         }
-        let clear = 1.0 - f32(countOneBits(occluded)) / SECTORS;
-        visibility += weight * proj_len * total * clear;
+        visibility += weight * proj_len * max(total - sectors_integral(occluded, n, cos_n, sin_n), 0.0);
         if BENT_NORMALS {
-            let b = bitmask_bent(occluded, n, cos_n, sin_n, lower, total);
+            let b = bitmask_bent(occluded, n, cos_n, sin_n);
             bent += weight * proj_len * (b.x * slice.ortho + b.y * v);
         }
     }
