@@ -10,14 +10,15 @@
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
 // infinitely thick solid counts where its front is within R, as in GTAO. Sky and
 // off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
-// costs a division where an angle costs an arc cosine (`sector_of`), and a slice's
-// visibility is the cosine-weighted integral (Jimenez et al. 2016, eq. 10) between the
-// edges of its clear runs, exact there (`sectors_integral`), so with infinite thickness
-// the estimate is GTAO's with each horizon rounded to the nearest sector edge; the
-// rounding has no sign. Slice weights and the final mapping are GTAO's; so is the bent
-// normal, integrated over the clear runs (`bitmask_bent`). With a second depth layer (AoOptions::second_layer) a sample
-// is two solids, the second from the surface behind the first (second_layer.wgsl). CPU
-// mirror: passes/estimators/bitmask.rs, `bitmask_pixel`.
+// costs a division where an angle costs an arc cosine (`sector_of`). A slice's
+// visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
+// its runs of occluded sectors, exact between sector edges (`sectors_integral`), so with
+// infinite thickness the estimate is GTAO's with each horizon rounded to the nearest
+// sector edge; the rounding has no sign. Slice weights and the final mapping are GTAO's;
+// so is the bent normal, integrated over the clear runs (`bitmask_bent`). With a second
+// depth layer (AoOptions::second_layer) a sample is two solids, the second from the
+// surface behind the first (second_layer.wgsl). CPU mirror: passes/estimators/bitmask.rs,
+// `bitmask_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
