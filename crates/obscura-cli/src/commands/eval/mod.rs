@@ -3,44 +3,47 @@
 //! pictures (AO, reference, signed error) and a quality-versus-time plot, and JSON.
 //!
 //! `run` is the evaluation itself; the arguments are in `args`, the variants in `variants`,
-//! the figures of one variant on one view in `rows`, and the report in `report`,
-//! `frontier`, `plots` and `pictures`; `--sensor` depth is made in `sensor_depth`, and
-//! `--ssdo` runs `ssdo` instead.
+//! the truth in `truth`, accumulated frames and the orbit in `orbit`, the figures of one
+//! variant on one view in `rows`, and the report in `document`, `report`, `frontier`,
+//! `plots` and `pictures`; `--sensor` depth is made in `sensor_depth`, and `--ssdo` runs
+//! `ssdo` instead.
 
 mod args;
+mod document;
 mod frontier;
 mod images;
+mod orbit;
 mod pictures;
 mod plots;
 mod report;
 mod rows;
 mod sensor_depth;
 mod ssdo;
+mod truth;
 mod variants;
 
 pub use args::EvalArgs;
 
 use args::{check, FalloffArg, NoiseArg, SensorArg, TruthArg};
+use document::Scored;
 use frontier::{frontier_table, variant_means};
-use pictures::{write_error, write_gray};
 use plots::{frontier_plot, scatter};
 use report::{
     bent_table, json, mixed_summary, relative_dir, sampling_bias_table, summary_table,
     temporal_table,
 };
-use rows::{bent_error, Row, TemporalFigures};
+use rows::{bent_error, Row};
 use sensor_depth::{linear_depth, sensor_depth};
 use variants::{thickness_label, variant_list, Variants};
 
 use crate::options::NormalSource;
 use crate::output::{check_png_path, fmt_ms, write_text};
-use crate::progress::tenths;
 use crate::timing::{frame_ms, median, warm_up};
 use crate::views::{camera_for, Job};
 use anyhow::{bail, Context, Result};
-use obscura::{Ao, AoInput, AoOptions, AoParams, Estimator, GpuContext, Resolution, Timing};
-use obscura_eval::{cache, layers, metrics, sensor, Bvh, Falloff, PixelSampling, TraceSettings};
-use obscura_scene::{Camera, GBufferRenderer, Mesh};
+use obscura::{Ao, AoInput, AoOptions, AoParams, Estimator, GpuContext, Timing};
+use obscura_eval::{layers, metrics, sensor, Bvh};
+use obscura_scene::{GBufferRenderer, Mesh};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -89,15 +92,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());
     let raster = GBufferRenderer::new(&ctx.device);
+    let v = variant_list(a)?;
     let Variants {
         list: variants,
         scales,
         thickness_of,
-        frames_of,
         guard_of,
         samples_of,
-        orbit_frames,
-    } = variant_list(a)?;
+        ..
+    } = &v;
     let mut aos: Vec<Ao> = variants
         .iter()
         .map(|(_, o)| Ao::new(&ctx.device, *o))
@@ -144,51 +147,14 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         let cam = camera_for(job, &mesh)?;
         let bounds = mesh.bounds().context("the scene has no triangles")?;
         let radius = view_radius(a, &bounds);
-        let settings = TraceSettings {
-            radius,
-            rays: a.rays,
-            falloff: match a.falloff {
-                FalloffArg::None => Falloff::None,
-                FalloffArg::Quadratic => Falloff::Quadratic,
-            },
-            sampling: match a.truth {
-                TruthArg::Centre => PixelSampling::Centre,
-                TruthArg::Msaa4 => PixelSampling::Msaa4,
-            },
-        };
+        let settings = truth::trace_settings(a, radius);
         eprintln!(
             "{}: {} triangles, radius {radius:.3}",
             job.name,
             mesh.triangle_count()
         );
 
-        // Ground truth, cached.
-        let key = cache::key(&bytes, &cam, w, h, &settings);
-        let cpath = cache::path(&a.cache, key);
-        let reference = match cache::load(&cpath, w, h) {
-            Some(r) => {
-                eprintln!("  reference: cached ({})", cpath.display());
-                r
-            }
-            None => {
-                let t = Instant::now();
-                let bvh = Bvh::new(obscura_eval::triangles(&mesh));
-                let r =
-                    obscura_eval::trace_view(&bvh, &cam, w, h, &settings, &tenths("reference", t));
-                eprintln!(
-                    "  reference: {}x{} × {} rays in {:.1} s, mean standard error {:.4}",
-                    w,
-                    h,
-                    a.rays,
-                    t.elapsed().as_secs_f64(),
-                    r.mean_std_error
-                );
-                if let Err(e) = cache::store(&cpath, &r) {
-                    eprintln!("  warning: could not cache the reference: {e}");
-                }
-                r
-            }
-        };
+        let reference = truth::reference(a, &bytes, &mesh, &cam, &settings);
         info.push((
             job.name.clone(),
             radius,
@@ -358,101 +324,19 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .collect();
         // Temporal accumulation: N frames of the still camera, one more for the flicker,
         // then an orbit of N frames ending at this camera.
-        let mut temporal: Vec<Option<TemporalFigures>> = vec![None; aos.len()];
-        let mut still_images: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
-        let mut orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>> = vec![None; aos.len()];
-        if orbit_frames > 1 {
-            for (i, ao) in aos.iter_mut().enumerate() {
-                if frames_of[i] == 1 {
-                    continue;
-                }
-                ao.reset_history();
-                let p = of_variant(i);
-                let input = input_of(i);
-                for _ in 0..frames_of[i] {
-                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
-                }
-                let still = ctx.read_f32(ao.output().context("AO output missing")?)?;
-                ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &input, &p))?;
-                let next = ctx.read_f32(ao.output().context("AO output missing")?)?;
-                let flicker = metrics::mean_abs_diff(&still, &next, &mask);
-                temporal[i] = Some(TemporalFigures {
-                    frames: frames_of[i],
-                    flicker,
-                    orbit_rmse: 0.0,
-                    disoccluded: None,
-                });
-                still_images[i] = Some(still);
-            }
-            // One orbit of the longest count, rasterized once; a variant of N frames joins
-            // it N frames before its end, with a cut.
-            let mut previous: Option<Camera> = None;
-            for k in 0..orbit_frames {
-                let c = cam.orbit(a.orbit_step * (k as f32 - (orbit_frames - 1) as f32));
-                // With guard bands, the orbit's frames carry the widest band too.
-                let gk = raster.render_guarded(&ctx, &gpu_mesh, &c, (w, h), widest)?;
-                let gbuffer_normals = a.normal_source() == NormalSource::Gbuffer;
-                // With --second-layer, each frame's own peel at each finite prior.
-                let mut peels_k = Vec::new();
-                if a.second_layer {
-                    for t in a.priors().into_iter().filter(|t| t.is_finite()) {
-                        peels_k.push((t, raster.peel(&ctx, &gpu_mesh, &c, &gk, t * radius)?));
-                    }
-                }
-                for (i, ao) in aos.iter_mut().enumerate() {
-                    let first = orbit_frames - frames_of[i];
-                    if frames_of[i] == 1 || k < first {
-                        continue;
-                    }
-                    let motion = match previous {
-                        Some(p) if k > first => c.motion_since(&p),
-                        _ => obscura::CameraMotion::Cut,
-                    };
-                    let p = AoParams {
-                        motion,
-                        ..of_variant(i)
-                    };
-                    let second = variants[i].1.second_layer;
-                    let ik = AoInput {
-                        guard_band: guard_of[i],
-                        second_layer: peels_k
-                            .iter()
-                            .find(|p| second && p.0 == thickness_of[i])
-                            .map(|p| &p.1.view),
-                        ..gk.ao_input(&c, gbuffer_normals)
-                    };
-                    ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
-                }
-                previous = Some(c);
-            }
-            for (i, ao) in aos.iter().enumerate().filter(|(i, _)| frames_of[*i] > 1) {
-                let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
-                // The history's frame counts at full resolution (the working texel whose
-                // footprint holds the pixel). A scaled history is on the working grid of
-                // a texture created at full size.
-                let hist = ctx.read_f32(ao.history().context("history missing")?)?;
-                let scaled = ao.options().resolution == Resolution::Scaled;
-                let f = ao.options().resolution.factor();
-                // With a guard band the history covers the view and the band, the view's
-                // pixel c at c + band.
-                let g = guard_of[i];
-                let hw = (w + 2 * g).div_ceil(f);
-                let texel = |c: u32| {
-                    if scaled {
-                        ((c as f32 + g as f32 + 0.5) * scales[i]) as u32
-                    } else {
-                        (c + g) / f
-                    }
-                };
-                let frames: Vec<f32> = (0..(w * h))
-                    .map(|p| {
-                        let (x, y) = (texel(p % w), texel(p / w));
-                        hist[((y * hw + x) * 4 + 1) as usize]
-                    })
-                    .collect();
-                orbit_images[i] = Some((out, frames));
-            }
-        }
+        let scene = orbit::Scene {
+            ctx: &ctx,
+            raster: &raster,
+            mesh: &gpu_mesh,
+            cam: &cam,
+            radius,
+            widest,
+        };
+        let orbit::Accumulated {
+            mut temporal,
+            mut still_images,
+            orbit_images,
+        } = orbit::accumulate(a, &scene, &v, &mut aos, &of_variant, &input_of, &mask)?;
         let mut screen = Vec::new();
         let several = a.priors().len() > 1;
         // An estimator's name in labels: the bitmask's with its prior when several are run,
@@ -500,16 +384,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 .map(|s| &s.4)
         };
         let white = vec![1.0f32; (w * h) as usize];
-        // (label, estimator, mode, image, time, options)
-        type Result5 = (
-            String,
-            String,
-            String,
-            Vec<f32>,
-            Option<f64>,
-            Option<AoOptions>,
-        );
-        let mut results: Vec<Result5> = vec![(
+        let mut results: Vec<Scored> = vec![(
             "white (no AO)".into(),
             "none".into(),
             String::new(),
@@ -716,50 +591,15 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
 
         if let (Some(dir), Some(md), false) = (&a.report, &md_path, a.no_pictures) {
-            let rel = relative_dir(dir, md);
-            let pic = |stem: &str| format!("{}-{}.png", job.name, stem.replace(' ', "-"));
-            write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
-            let _ = write!(
-                sections,
-                "\n### {}\n\n`{}`, {} triangles, radius {radius:.3}, reference {} rays/pixel (mean standard error {:.4}), eval {}×{}; evaluated in {:.0} s.\n\n| reference | {} |\n|---|{}\n| ![]({rel}{}) |",
-                job.name,
-                job.file.display(),
-                mesh.triangle_count(),
-                a.rays,
-                reference.mean_std_error,
-                w,
-                h,
-                t0.elapsed().as_secs_f64(),
-                results
-                    .iter()
-                    .skip(1 + screen.len())
-                    .map(|r| r.0.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" | "),
-                "---|".repeat(results.len() - 1 - screen.len()),
-                pic("reference"),
-            );
-            for (name, _, _, img, _, _) in results.iter().skip(1 + screen.len()) {
-                write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
-                write_error(
-                    &dir.join(pic(&format!("{name}-error"))),
-                    img,
-                    r,
-                    &mask,
-                    w,
-                    h,
-                    a.picture_scale,
-                )?;
-                let _ = write!(sections, " ![]({rel}{}) |", pic(name));
-            }
-            let _ = write!(
-                sections,
-                "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
-            );
-            for (name, _, _, _, _, _) in results.iter().skip(1 + screen.len()) {
-                let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
-            }
-            sections.push('\n');
+            let facts = document::ViewFacts {
+                job,
+                triangles: mesh.triangle_count(),
+                radius,
+                std_error: reference.mean_std_error,
+                seconds: t0.elapsed().as_secs_f64(),
+            };
+            let scored = &results[1 + screen.len()..];
+            document::view_section(&mut sections, a, (dir, md), &facts, r, &mask, scored)?;
         }
     }
 
@@ -776,39 +616,11 @@ pub fn run(a: &EvalArgs) -> Result<()> {
     print!("{table}");
     if let (Some(dir), Some(md)) = (&a.report, &md_path) {
         let rel = relative_dir(dir, md);
-        write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, &variants))?;
+        write_text(&dir.join("quality-vs-time.svg"), &scatter(&rows, variants))?;
         if means.len() > 1 {
             write_text(&dir.join("frontier.svg"), &frontier_plot(&means))?;
         }
-        // The mixed-resolution introduction only when some variant runs below full
-        // resolution (a denoiser alone also gets the full-resolution comparison columns).
-        let title = if variants
-            .iter()
-            .any(|(_, o)| o.resolution != Resolution::Full)
-        {
-            &format!("# Mixed resolution against ray-traced ground truth\n\nAO computed at half or quarter resolution (depth downsampled 2×2 → 1 by a rule, picks recentred on their tangent plane) or at a continuous scale *s* (`scaled s`: each working texel one of the full-resolution pixels it covers, by the same rule among the 2×2 nearest its centre, recentred; temporal accumulation, when on, on the working grid), upsampled to full resolution, compared with ray-traced AO and with the same estimator at full resolution. The evaluation size is {w}×{h} (half resolution is a {}×{} AO){}; speed-ups at 1920×1080 and 3840×2160, and what the numbers mean, are in BENCHMARKS.md (`obscura bench --compare resolutions`). *Speed-up* here is the mean over the views of full-resolution time / variant time at {w}×{h}, where the full-resolution prepare and upsample passes weigh most.", w.div_ceil(2), h.div_ceil(2), if w * h <= 640 * 400 { ", small: the harshest case for low resolutions" } else { "" })
-        } else {
-            "# Quality against ray-traced ground truth"
-        };
-        let mut doc = format!(
-            "{title}\n\nGenerated by `{}`.\n\nReference: CPU ray tracing of the scene triangles, cosine-weighted hemisphere, {} rays per pixel{}, hits within the radius {} (see `crates/obscura-eval`). Metrics over pixels where both the reference and the G-buffer see a surface; the band is the pixels within 2 px of a depth discontinuity (> 5% relative). Bias = mean(estimate − reference): positive means too bright. Each estimator's *screen-space reference* is its own integral brute-forced (64 × 64 samples, no jitter, `AoOptions::screen_reference`): its error against the ray tracer is what one depth layer allows that estimator, and *RMSE vs screen ref* and *bias vs screen ref* are an estimate's sampling error and sampling bias (for vo-area, whose 64 × 64 samples each cover under 4 px², the reference is the line integral's, so it is the area integral's distance from it). Times: median {} on {}.\n\n",
-            std::env::args().collect::<Vec<_>>().join(" "),
-            a.rays,
-            match a.truth {
-                TruthArg::Centre => "",
-                TruthArg::Msaa4 =>
-                    " (a quarter through each of the four 4× MSAA sample positions, averaged; sky samples unoccluded)",
-            },
-            match a.falloff {
-                FalloffArg::None => "occlude fully",
-                FalloffArg::Quadratic => "occlude by 1 − t²/R²",
-            },
-            match Timing::best_for(&ctx) {
-                Timing::Timestamps => "GPU time of the whole AO frame (the sum of its passes' timestamps)",
-                Timing::WallClock => "wall clock of the whole AO frame (every pass, submit to completion)",
-            },
-            ctx.describe()
-        );
+        let mut doc = document::header(a, &ctx, variants);
         doc.push_str(&table);
         let _ = write!(doc, "\n![quality versus time]({rel}quality-vs-time.svg)\n");
         if means.len() > 1 {

@@ -1,0 +1,143 @@
+//! Quality presets: each estimator's directions, steps and march exponent per preset,
+//! for the options' layout and resolution.
+
+use super::{AoOptions, Estimator, Resolution, MIN_SCALE};
+
+/// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
+/// that a preset costs about the same number of samples per pixel with every estimator:
+///
+/// | preset | samples/pixel | GTAO, bitmask: slices × steps (each way) | HBAO, VO, VAO, SAO, VO-area directions × steps |
+/// |---|---|---|---|
+/// | `Low` | 8 | 2 × 2 | 4 × 2 |
+/// | `Medium` | 16 | 2 × 4 | 4 × 4 |
+/// | `High` (default) | 30 or 32 | 3 × 5 at march exponent 1.3 where the samples' lattice is at most 2 pixels, else 4 × 4 evenly | 8 × 4 |
+/// | `Ultra` | 96 | 8 × 6 | 16 × 6 |
+///
+/// `High` for GTAO and the bitmask depends on the layout and resolution
+/// ([`AoOptions::with_preset`], [`AoOptions::lattice_px`]): where the samples' lattice is
+/// fine (2×2 layers at full resolution, the randomized layout at full and half
+/// resolution) three slices of five steps crowded toward the centre
+/// ([`HIGH_MARCH_EXPONENT`]) find the contact shadows a few pixels wide that four even
+/// steps step over; with fewer samples they were better than 4 × 4 there on the mean of
+/// the shared views, and at full resolution on every view (docs/thickness.md, "Steps
+/// and slices"). Where the lattice is coarser (4×4 layers, 2×2 layers below full resolution,
+/// the randomized layout at quarter or scaled resolution) the crowded steps land on a few
+/// lattice points, the far field thins and the AO brightens, so `High` keeps 4 × 4 evenly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Preset {
+    Low,
+    Medium,
+    #[default]
+    High,
+    Ultra,
+}
+
+impl Preset {
+    /// Every preset, cheapest first.
+    pub const ALL: [Preset; 4] = [Preset::Low, Preset::Medium, Preset::High, Preset::Ultra];
+}
+
+/// The even march, [`AoOptions::march_exponent`] 1: GTAO's steps evenly spaced.
+pub const EVEN_MARCH_EXPONENT: f32 = 1.0;
+
+/// [`Preset::High`]'s march exponent for GTAO and the bitmask where the samples' lattice is
+/// at most [`FINE_LATTICE_PX`] pixels, chosen over all shared views (docs/thickness.md).
+pub const HIGH_MARCH_EXPONENT: f32 = 1.3;
+
+/// The coarsest sampling lattice, in full-resolution pixels, at which `Preset::High`
+/// crowds its steps toward the centre ([`AoOptions::lattice_px`]).
+pub const FINE_LATTICE_PX: f32 = 2.0;
+
+impl AoOptions {
+    /// The options of `preset` for `estimator` in the default layout and resolution (2×2
+    /// layers, full resolution, fused); see [`Preset`]. For another layout or resolution,
+    /// set them and then [`AoOptions::with_preset`].
+    pub fn preset(estimator: Estimator, preset: Preset) -> Self {
+        Self {
+            estimator,
+            ..Self::default()
+        }
+        .with_preset(preset)
+    }
+
+    /// These options with `preset`'s directions, steps and march exponent for their
+    /// estimator, layout and resolution (see [`Preset`]); everything else is kept.
+    pub fn with_preset(self, preset: Preset) -> Self {
+        let marches = matches!(self.estimator, Estimator::Gtao | Estimator::Bitmask);
+        let fine = self.lattice_px() <= FINE_LATTICE_PX;
+        let (directions, steps, march_exponent) = match (marches, preset) {
+            (true, Preset::Low) => (2, 2, EVEN_MARCH_EXPONENT),
+            (true, Preset::Medium) => (2, 4, EVEN_MARCH_EXPONENT),
+            (true, Preset::High) if fine => (3, 5, HIGH_MARCH_EXPONENT),
+            (true, Preset::High) => (4, 4, EVEN_MARCH_EXPONENT),
+            (true, Preset::Ultra) => (8, 6, EVEN_MARCH_EXPONENT),
+            (false, Preset::Low) => (4, 2, EVEN_MARCH_EXPONENT),
+            (false, Preset::Medium) => (4, 4, EVEN_MARCH_EXPONENT),
+            (false, Preset::High) => (8, 4, EVEN_MARCH_EXPONENT),
+            (false, Preset::Ultra) => (16, 6, EVEN_MARCH_EXPONENT),
+        };
+        Self {
+            directions,
+            steps,
+            march_exponent,
+            ..self
+        }
+    }
+
+    /// The spacing of the lattice the AO pass samples on, in full-resolution pixels: the
+    /// layout's split (1, 2 or 4) times the resolution's factor. `Scaled` counts at its
+    /// smallest scale ([`MIN_SCALE`]), since its scale changes per frame.
+    pub fn lattice_px(&self) -> f32 {
+        let factor = match self.resolution {
+            Resolution::Scaled => 1.0 / MIN_SCALE,
+            r => r.factor() as f32,
+        };
+        self.mode.split() as f32 * factor
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AoMode;
+
+    #[test]
+    fn presets_cost_the_documented_samples_with_every_estimator() {
+        for (preset, spp) in Preset::ALL.into_iter().zip([8, 16, 32, 96]) {
+            for e in Estimator::ALL {
+                AoOptions::preset(e, preset).validate().unwrap();
+                for mode in AoMode::ALL {
+                    for resolution in [
+                        Resolution::Full,
+                        Resolution::Half,
+                        Resolution::Quarter,
+                        Resolution::Scaled,
+                    ] {
+                        let o = AoOptions {
+                            estimator: e,
+                            mode,
+                            resolution,
+                            ..AoOptions::default()
+                        }
+                        .with_preset(preset);
+                        // GTAO's and the bitmask's High on a fine lattice: 3 × 5 crowded.
+                        let crowded = o.march_exponent != EVEN_MARCH_EXPONENT;
+                        let expected = if crowded { 30 } else { spp };
+                        assert_eq!(o.samples_per_pixel(), expected, "{e:?} {preset:?}");
+                        assert_eq!(
+                            crowded,
+                            preset == Preset::High
+                                && matches!(e, Estimator::Gtao | Estimator::Bitmask)
+                                && (mode == AoMode::Randomized
+                                    && resolution != Resolution::Quarter
+                                    && resolution != Resolution::Scaled
+                                    || mode == AoMode::Deinterleaved2
+                                        && resolution == Resolution::Full),
+                            "{e:?} {preset:?} {mode:?} {resolution:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
