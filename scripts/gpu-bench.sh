@@ -77,7 +77,7 @@ if [ -d "$scenes" ]; then
     --modes randomized,deinterleaved2 --thickness 0.75,1 --second-layer --guard-bands 0,32 --runs 5 \
     --json "$out/layers-720p.json" --report "$out/layers-720p" --markdown "$out/layers-720p.md"
   # The bitmask against GTAO with more steps, with and without a second layer: the frontier
-  # that decides whether the bitmask could be the default (docs/thickness.md, session 34).
+  # that decides whether the bitmask could be the default (docs/thickness.md, "On a GPU").
   step splits-720p "${hd[@]}" --estimators gtao,bitmask --splits 3x4,3x5,3x8 --march-exponents 1.3 \
     --modes randomized,deinterleaved2 --thickness 1 --second-layer --runs 5 \
     --json "$out/splits-720p.json" --report "$out/splits-720p" --markdown "$out/splits-720p.md"

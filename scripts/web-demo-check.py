@@ -68,7 +68,7 @@ def main():
     driver = subprocess.Popen([os.environ.get("CHROMEDRIVER", "chromedriver"), f"--port={port}"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     base = f"http://127.0.0.1:{port}"
-    session = None
+    browser = None
     try:
         for _ in range(100):
             try:
@@ -84,8 +84,8 @@ def main():
                      "--disable-dev-shm-usage", "--disable-background-networking",
                      "--disable-component-update", "--disable-sync", "--no-first-run",
                      "--window-size=900,760", "--enable-unsafe-swiftshader", "--use-angle=swiftshader"]}}}}
-        session = call(base, "POST", "/session", caps)["sessionId"]
-        s = f"/session/{session}"
+        browser = call(base, "POST", "/session", caps)["sessionId"]
+        s = f"/session/{browser}"
         call(base, "POST", s + "/url", {"url": page})
         script = ("const e = document.getElementById(arguments[0]); e.value = arguments[1];"
                   "e.dispatchEvent(new Event('change')); return e.value;")
@@ -128,9 +128,9 @@ def main():
         os.replace(tmp, out)
         print(f"web-demo-check: wrote {out}", file=sys.stderr)
     finally:
-        if session:
+        if browser:
             try:
-                call(base, "DELETE", f"/session/{session}")
+                call(base, "DELETE", f"/session/{browser}")
             except OSError:
                 pass
         driver.terminate()

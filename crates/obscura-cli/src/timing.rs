@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 /// How long untimed frames keep a hardware GPU busy before timed ones. A GPU lowers its
 /// clocks while it idles (the CPU tracing a reference or loading a scene), and a few frames
-/// do not raise them again: on an H200 (session 32) `eval`'s 720p frontier at `--runs 5`
+/// do not raise them again: on an H200 (2026-11-27, b560942) `eval`'s 720p frontier at `--runs 5`
 /// after each view's reference took 0.23–0.73 ms a view for the default frame, and
 /// 0.09–0.14 ms with this warm-up first.
 pub(crate) const GPU_WARM_UP: Duration = Duration::from_secs(1);

@@ -1,5 +1,5 @@
 //! Renderer layers as a ray tracer finds them, and the visibility-bitmask estimator's
-//! screen-space limit with each (issue 38): what one layer with a thickness prior, back-face
+//! screen-space limit with each: what one layer with a thickness prior, back-face
 //! thickness, a second layer and a guard band allow before any GPU pass is built for them.
 //!
 //! Along each pixel's primary ray: layer 1's front is the first surface (the G-buffer's);

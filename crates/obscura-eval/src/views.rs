@@ -1,5 +1,5 @@
 //! The standard views: one per shared scene, used by `obscura eval --all` and
-//! docs/quality.md. Cameras given by the issue tracker where one exists (Sponza interior,
+//! docs/quality.md. Cameras chosen by hand where a scene has an inside to look into (Sponza interior,
 //! Cornell box); otherwise the scene is framed from its bounding box
 //! (`Camera::framing`, 50° vertical field of view). The AO radius is 3% of the scene's
 //! bounding-box diagonal, the CLI's default rule, for every view.

@@ -2,7 +2,7 @@
 //! reversed (near → 1, far → 0), matching [`obscura::DepthConvention::ReversedZ`]
 //! ([`DEPTH_CONVENTION`]): a float's exponent then spends its precision where the
 //! projection's 1/z loses it, so the depth keeps about 2⁻²⁴ of the view depth everywhere
-//! (Reed 2015, "Depth Precision Visualized"; docs/thickness.md, "A reversed-Z G-buffer").
+//! (Reed 2015, "Depth Precision Visualized"; docs/thickness.md, "The depth buffer: reversed-Z").
 
 use crate::{Aabb, SceneError};
 use glam::{Mat4, Vec3, Vec4};
@@ -188,7 +188,7 @@ impl Camera {
     /// farthest corner, near is 1/10000 of it. Reversed-Z keeps Depth32Float's step near
     /// 2⁻²⁴ of the view depth at every depth; in the standard convention it was about
     /// 2⁻²⁴ z² / near, 1.1–2.2% of the AO radius on the shared views (docs/thickness.md,
-    /// "What limits the screen-space reference here").
+    /// "The depth buffer: reversed-Z").
     pub fn fit_clip_planes(&mut self, bounds: &Aabb) {
         let far = corners(bounds)
             .iter()

@@ -1,4 +1,4 @@
-//! obscura's demo page (issue 39): the built-in courtyard rasterized in the browser
+//! obscura's demo page: the built-in courtyard rasterized in the browser
 //! (obscura-scene's G-buffer), its AO computed by obscura on WebGPU, and shown as AO, lit,
 //! or AO beside depth and normals, with an orbit camera and the main options. The page is
 //! web/index.html; `bash scripts/web-demo.sh` builds and serves it (docs/guide/web.md).

@@ -30,7 +30,7 @@
 //! costs settles on the cheaper one instead of alternating.
 //!
 //! [`ScaleController`] holds a budget with one continuous knob instead, the working scale of
-//! [`crate::Resolution::Scaled`] (the design of issue 15, docs/budget.md): an integral
+//! [`crate::Resolution::Scaled`] (the design in docs/budget.md): an integral
 //! controller on the log of the working area s², with a dead band for hysteresis.
 //!
 //! [`JointController`] turns both knobs, the working scale and the sample count: the scale
@@ -280,7 +280,7 @@ pub enum Knob {
     Level(usize),
 }
 
-/// Holds a frame-time budget with both knobs of issue 15: the working scale, then the
+/// Holds a frame-time budget with both knobs: the working scale, then the
 /// sample count.
 ///
 /// Below a top scale the frame runs one scaled AO whose scale a [`ScaleController`] turns

@@ -1,4 +1,4 @@
-//! Interleaved many-light shading on the AO's prepared buffer (issue 14 item 3).
+//! Interleaved many-light shading on the AO's prepared buffer.
 //!
 //! Hundreds of point lights (virtual point lights, say) shaded at every pixel cost one
 //! light evaluation per light per pixel. Segovia, Iehl, Mitanchey & Péroche (2006, "Non-

@@ -1,4 +1,4 @@
-//! Screen-space directional occlusion with one diffuse bounce (issue 14 item 2), on the
+//! Screen-space directional occlusion with one diffuse bounce, on the
 //! AO's outputs and its prepared buffer.
 //!
 //! Ritschel, Grosch & Seidel (2009, "Approximating Dynamic Global Illumination in Image

@@ -251,7 +251,7 @@ pub struct EvalArgs {
     /// precision costs each variant and reference. With obscura-scene's reversed-Z raster
     /// almost nothing (0.0001 on the standard views); the standard convention's steps,
     /// and the pixels where its depth test kept a hidden surface, cost 0.002–0.006
-    /// (docs/thickness.md, "A reversed-Z G-buffer"). Normals are the G-buffer's unless --normals reconstructs
+    /// (docs/thickness.md, "The depth buffer: reversed-Z"). Normals are the G-buffer's unless --normals reconstructs
     /// them (then from the traced depth). Single frames, without --sensor, --msaa,
     /// --second-layer, guard bands, --ssdo or --truth msaa4.
     #[arg(long, conflicts_with_all = ["sensor", "msaa", "second_layer", "ssdo"])]

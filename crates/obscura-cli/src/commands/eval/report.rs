@@ -29,7 +29,7 @@ pub(super) fn mixed_summary(rows: &[Row]) -> String {
     if !rows.iter().any(|r| r.full_rmse.is_some()) {
         return String::new();
     }
-    let mut s = String::from("Mean over the views. *Band ratio*: band RMSE against ray-traced AO divided by that of the same estimator and mode at full resolution (issue 5 asks ≤ 1.25). An accumulated variant (×N) is compared with the single full-resolution frame of its estimator, mode and samples.\n\n| variant | RMSE | band RMSE | band ratio | RMSE vs full res | band RMSE vs full res | speed-up over full res |\n|---|---|---|---|---|---|---|\n");
+    let mut s = String::from("Mean over the views. *Band ratio*: band RMSE against ray-traced AO divided by that of the same estimator and mode at full resolution (1 is full resolution's own edge error; 1.25 is a quarter more). An accumulated variant (×N) is compared with the single full-resolution frame of its estimator, mode and samples.\n\n| variant | RMSE | band RMSE | band ratio | RMSE vs full res | band RMSE vs full res | speed-up over full res |\n|---|---|---|---|---|---|---|\n");
     for name in names {
         let mine: Vec<&Row> = rows.iter().filter(|r| r.variant == name).collect();
         let n = mine.len() as f32;
@@ -99,7 +99,7 @@ pub(super) fn mixed_summary(rows: &[Row]) -> String {
 
 /// Per variant, the mean and the largest (in magnitude) over the views of its bias minus
 /// that of its estimator's screen-space reference: how far sampling moves the mean AO from
-/// the integral it samples (issue 10 asks GTAO's within ±0.01 on every view). Empty
+/// the integral it samples (within ±0.01 on every view is the goal for GTAO). Empty
 /// without screen-space references.
 pub(super) fn sampling_bias_table(rows: &[Row]) -> String {
     let mut names: Vec<&str> = Vec::new();
@@ -205,7 +205,7 @@ pub(super) fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
         return String::new();
     }
     let mut s = format!(
-        "\n### Temporal accumulation (history {})\n\n*×N*: scored after N frames of a still camera. *Flicker*: mean |AO(frame N+1) − AO(frame N)| of the still camera. *Orbit*: N frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's N-frame image (ratio: the issue asks ≤ 1.5).\n\n| view | variant | RMSE (still, N frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
+        "\n### Temporal accumulation (history {})\n\n*×N*: scored after N frames of a still camera. *Flicker*: mean |AO(frame N+1) − AO(frame N)| of the still camera. *Orbit*: N frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's N-frame image (ratio: 1 is as good as the still camera).\n\n| view | variant | RMSE (still, N frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
         a.history, a.orbit_step
     );
     for (r, f) in &t {

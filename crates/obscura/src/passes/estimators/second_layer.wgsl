@@ -1,4 +1,4 @@
-// The AO pass's second depth layer (AoOptions::second_layer; issue 38): linear depth of
+// The AO pass's second depth layer (AoOptions::second_layer): linear depth of
 // the surface behind pixel q's first, 0 where there is none, written by the prepare pass
 // (prepare/prepare_second.wgsl) at full resolution over the processed rectangle. `q` is a
 // full-resolution pixel in every layout (the layered passes' samples are pixels too).

@@ -1,4 +1,4 @@
-// The prepare pass's second depth layer (AoOptions::second_layer; issue 38): the caller's
+// The prepare pass's second depth layer (AoOptions::second_layer): the caller's
 // second layer, linearised like the first (common.wgsl, `linearize_depth`; sky and
 // missing depth are 0), stored at full resolution over the processed rectangle for the AO
 // pass (estimators/second_layer.wgsl). Composed after a second_input_*.wgsl
