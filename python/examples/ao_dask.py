@@ -18,7 +18,7 @@ def main():
     ap.add_argument("depth_dir")
     ap.add_argument("out_dir")
     ap.add_argument("--intrinsics", required=True, help="the JSON `obscura render --depth` reads")
-    ap.add_argument("--workers", type=int, default=2, help="LocalCluster processes (one device each)")
+    ap.add_argument("--workers", type=int, default=2, help="LocalCluster workers (threads, one device each)")
     ap.add_argument("--scheduler", default=None, help="a running scheduler's address instead")
     ap.add_argument("--output", default=".npy", choices=[".npy", ".exr", ".png"])
     ap.add_argument("--preset", default="high", choices=["low", "medium", "high", "ultra"])

@@ -3,8 +3,9 @@
     from obscura.dask import ao_files
     report = ao_files("scans/", "ao/", intrinsics="data/intrinsics/redwood.json")
 
-Each worker keeps one `obscura.Renderer` (a worker plugin), so its device opens and its
-passes compile once. Outputs are written atomically (`obscura.save_ao`), so a file that
+Each worker (a thread by default, so a plain script needs no `if __name__ == "__main__":`;
+`processes=True` for processes) keeps one `obscura.Renderer` (a worker plugin), so its
+device opens and its passes compile once. Outputs are written atomically (`obscura.save_ao`), so a file that
 exists is complete and a rerun skips it. A map that fails is reported with its error and
 never stops the run. Needs `dask[distributed]`; depth PNGs need Pillow.
 
@@ -143,6 +144,7 @@ def ao_files(
     output: str = ".npy",
     scheduler: Union[None, str, Client] = None,
     workers: int = 2,
+    processes: bool = False,
     radius: Optional[float] = None,
     depth_noise: Any = None,
     thickness: Optional[float] = None,
@@ -155,8 +157,12 @@ def ao_files(
     Args:
         intrinsics: {fx, fy, cx, cy[, width, height, depth_scale]} or the JSON file that
             `obscura render --depth --intrinsics` reads; shared by every map.
-        scheduler: None for a `LocalCluster` of `workers` processes (one thread each; one
-            device each), a scheduler address ("tcp://host:8786"), or a `Client`.
+        scheduler: None for a `LocalCluster` of `workers` workers (one device each), a
+            scheduler address ("tcp://host:8786"), or a `Client`.
+        processes: the `LocalCluster`'s workers as processes instead of threads. Threads
+            (the default) work from a plain script and start in a fraction of a second;
+            the devices release the GIL while they render, so both do about as many maps
+            a second. Processes need the call under `if __name__ == "__main__":`.
         radius, depth_noise, thickness: as `Renderer.render`.
         progress: a progress line on stderr.
         renderer_options: `Renderer`'s (estimator, preset, resolution, denoise, frames).
@@ -179,8 +185,17 @@ def ao_files(
     failed: List[Tuple[str, str]] = []
     cluster = None
     if scheduler is None:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+        try:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1,
+                                   processes=processes, dashboard_address=None)
+        except RuntimeError as e:
+            if not processes:
+                raise
+            raise RuntimeError(
+                f"{e} With processes=True, Dask starts worker processes that import the "
+                "main script again: call ao_files under `if __name__ == \"__main__\":`, or "
+                "leave processes=False (worker threads, each with its own device)"
+            ) from e
         client = Client(cluster)
     elif isinstance(scheduler, Client):
         client = scheduler

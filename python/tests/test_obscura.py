@@ -422,7 +422,8 @@ def test_dask_writes_what_one_renderer_writes_and_reports_the_bad_file(tmp_path)
         want = r.render(depth, fx=48.0, fy=48.0, cx=31.5, cy=23.5, depth_scale=scale)
         np.testing.assert_array_equal(np.load(out / f"map{i}_ao.npy"), want)
     # A rerun skips the complete outputs and tries the broken file again.
-    again = ao_files(src, out, intrinsics=k, workers=1, progress=False)
+    # Worker processes (the file is imported, not run, so no main guard is needed here).
+    again = ao_files(src, out, intrinsics=k, workers=1, processes=True, progress=False)
     assert len(again.skipped) == 5 and again.written == [] and len(again.failed) == 1
     # The other formats: 16-bit PNG and EXR hold the same AO (PNG within half a step).
     for suffix in [".png", ".exr"]:
