@@ -9,8 +9,8 @@
 //! ```
 //!
 //! Integration in five steps (`examples/compose.rs` does exactly these in a small app):
-//! 1. Give your depth texture `TEXTURE_BINDING` usage (any depth format, or `R32Float`
-//!    linear depth; not multisampled).
+//! 1. Give your depth texture `TEXTURE_BINDING` usage (any depth format, multisampled or
+//!    not, or `R32Float` linear depth).
 //! 2. Once: `let mut ao = Ao::new(&device, AoOptions::default())?;` compiles the passes;
 //!    describe the camera with [`Projection::from_matrix`] (or by parameters) and the
 //!    [`DepthConvention`] it writes.
@@ -63,3 +63,23 @@ pub use settings::{
 };
 pub use shading::prepared::Prepared;
 pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};
+
+/// The Rust blocks of the README and of the guide, compiled and run as doctests so that
+/// they cannot fall behind the API (`cargo test --doc -p obscura`).
+#[cfg(doctest)]
+mod doc_pages {
+    #[doc = include_str!("../../../README.md")]
+    struct Readme;
+    #[doc = include_str!("../../../docs/guide/integrate.md")]
+    struct Integrate;
+    #[doc = include_str!("../../../docs/guide/depth-maps.md")]
+    struct DepthMaps;
+    #[doc = include_str!("../../../docs/guide/frame-budget.md")]
+    struct FrameBudget;
+    #[doc = include_str!("../../../docs/guide/lights-ssdo.md")]
+    struct LightsSsdo;
+    #[doc = include_str!("../../../docs/guide/evaluate.md")]
+    struct Evaluate;
+    #[doc = include_str!("../../../docs/guide/web.md")]
+    struct Web;
+}

@@ -2,9 +2,9 @@
 "The noise floor, replayed"). Standard library only: `python3 docs/budget/noise/replay.py`.
 
 Each CSV here is one pinned-scale Sponza orbit (`obscura render ... --budget-control scale
---budget-ms 100000` for scale 1, `--budget-ms 1` for scale 1/4; session 21, llvmpipe, 2
-cores). A frame's noise is its time over the median of the nine frames around it (frames
-2..100). The controller below transcribes `obscura::budget::ScaleController::update`
+--budget-ms 100000` for scale 1, `--budget-ms 1` for scale 1/4; 2026-11-25, a866ae1,
+llvmpipe, 2 cores). A frame's noise is its time over the median of the nine frames around
+it (frames 2..100). The controller below transcribes `obscura::budget::ScaleController::update`
 (integral on ln s², gain, dead band); `outliers=True` adds the Hampel-type skip that was
 tried and not kept.
 """
