@@ -15,11 +15,20 @@ pub(crate) const GPU_WARM_UP: Duration = Duration::from_secs(1);
 /// Untimed rounds before the timed ones: one round (shader compilation, first-use
 /// allocations), and on hardware adapters ([`Timing::Timestamps`]) more until
 /// [`GPU_WARM_UP`] has passed.
-pub(crate) fn warm_up(timing: Timing, mut round: impl FnMut() -> Result<()>) -> Result<()> {
+pub(crate) fn warm_up(timing: Timing, round: impl FnMut() -> Result<()>) -> Result<()> {
     let start = Instant::now();
+    warm_up_by(timing, || start.elapsed(), round)
+}
+
+/// [`warm_up`] on any clock: `elapsed` gives the time since the warm-up began.
+fn warm_up_by(
+    timing: Timing,
+    mut elapsed: impl FnMut() -> Duration,
+    mut round: impl FnMut() -> Result<()>,
+) -> Result<()> {
     loop {
         round()?;
-        if timing != Timing::Timestamps || start.elapsed() >= GPU_WARM_UP {
+        if timing != Timing::Timestamps || elapsed() >= GPU_WARM_UP {
             return Ok(());
         }
     }
@@ -93,40 +102,37 @@ mod tests {
 
     #[test]
     fn warm_up_runs_once_on_cpu_adapters_and_a_second_on_gpus() {
+        // A clock that each round moves on by 300 ms, so the count does not depend on how
+        // long a sleep takes on a loaded machine.
+        let clock = std::cell::Cell::new(Duration::ZERO);
         let mut rounds = 0;
-        warm_up(Timing::WallClock, || {
-            rounds += 1;
+        let round = |rounds: &mut u32| {
+            *rounds += 1;
+            clock.set(clock.get() + Duration::from_millis(300));
             Ok(())
-        })
-        .unwrap();
+        };
+        warm_up_by(Timing::WallClock, || clock.get(), || round(&mut rounds)).unwrap();
         assert_eq!(
             rounds, 1,
             "lavapipe needs no clocks raised: one untimed round"
         );
 
-        let (start, mut rounds) = (Instant::now(), 0);
-        warm_up(Timing::Timestamps, || {
-            rounds += 1;
-            std::thread::sleep(Duration::from_millis(50));
-            Ok(())
-        })
-        .unwrap();
-        assert!(
-            start.elapsed() >= GPU_WARM_UP,
-            "stopped before the warm-up time"
-        );
-        // Each round takes at least 50 ms, so 20 of them reach the second (fewer on a
-        // loaded machine, where a sleep overshoots).
-        assert!(
-            (2..=20).contains(&rounds),
-            "{rounds} rounds of 50 ms for 1 s"
-        );
+        let mut rounds = 0;
+        clock.set(Duration::ZERO);
+        warm_up_by(Timing::Timestamps, || clock.get(), || round(&mut rounds)).unwrap();
+        // 300, 600, 900 ms are short of GPU_WARM_UP (1 s); the fourth round reaches it.
+        assert_eq!(rounds, 4, "rounds of 300 ms until a second has passed");
+        assert!(clock.get() >= GPU_WARM_UP);
 
         let mut rounds = 0;
-        let err = warm_up(Timing::Timestamps, || {
-            rounds += 1;
-            anyhow::bail!("device lost")
-        });
+        let err = warm_up_by(
+            Timing::Timestamps,
+            || clock.get(),
+            || {
+                rounds += 1;
+                anyhow::bail!("device lost")
+            },
+        );
         assert!(err.is_err() && rounds == 1, "an error ends the warm-up");
     }
 }

@@ -253,7 +253,7 @@ async fn browser_refuses_bad_input_as_natively() {
 /// then the median of 10, each timed by the browser's clock from recording to the
 /// completion of its work. Nothing is asserted on the time.
 #[wasm_bindgen_test]
-#[ignore]
+#[ignore = "a timing for BENCHMARKS.md, not a test: run with --include-ignored"]
 async fn default_frame_time_at_720p() {
     let ctx = context().await;
     let (w, h) = (1280u32, 720u32);

@@ -226,7 +226,7 @@ fn guard_band_is_the_crop_of_the_widened_frame() {
 }
 
 /// A band wider than the margin around the viewport, on any side, is refused before GPU
-/// work; so is a guarded frame given to `Lights`.
+/// work; a guarded frame given to `Lights` is taken, and they output the viewport alone.
 #[test]
 fn guard_band_must_fit_the_depth_texture() {
     let _g = lock();

@@ -14,6 +14,7 @@ use std::sync::{OnceLock, RwLock};
 #[path = "../common/analytic.rs"]
 mod analytic;
 mod bitmask;
+mod closed_forms;
 #[path = "../common/mod.rs"]
 mod common;
 mod guard;

@@ -142,6 +142,7 @@ fn moved(from: Mat4, to: Mat4) -> CameraMotion {
 /// frame's raw bent normals toward last frame's.
 #[test]
 fn temporal_pass_matches_cpu_mirror_after_a_move() {
+    let _g = super::lock();
     let v0 = view_matrix(Vec3::new(0.0, 1.5, 2.0), Vec3::new(0.0, 0.6, -3.0));
     let v1 = view_matrix(Vec3::new(0.25, 1.55, 1.9), Vec3::new(0.1, 0.6, -3.0));
     let (d0, d1) = (scene_depth(v0), scene_depth(v1));
@@ -218,6 +219,7 @@ fn temporal_pass_matches_cpu_mirror_after_a_move() {
 /// (there the same measure falls to 0.87).
 #[test]
 fn still_camera_converges_toward_the_integral() {
+    let _g = super::lock();
     let c = ctx();
     let v = view_matrix(Vec3::new(0.0, 1.5, 2.0), Vec3::new(0.0, 0.6, -3.0));
     let depth = scene_depth(v);
@@ -277,6 +279,7 @@ fn still_camera_converges_toward_the_integral() {
 /// point at that point's previous pixel.
 #[test]
 fn camera_move_keeps_history_where_visible_and_drops_it_where_disoccluded() {
+    let _g = super::lock();
     let v0 = view_matrix(Vec3::new(-0.6, 1.0, 1.0), Vec3::new(-0.6, 0.8, -3.0));
     let v1 = view_matrix(Vec3::new(0.6, 1.0, 1.0), Vec3::new(0.6, 0.8, -3.0));
     let (d0, d1) = (scene_depth(v0), scene_depth(v1));
@@ -345,6 +348,7 @@ fn camera_move_keeps_history_where_visible_and_drops_it_where_disoccluded() {
 /// The history starts over after `reset_history`, a camera cut and a resize, and only then.
 #[test]
 fn history_resets_on_reset_cut_and_resize() {
+    let _g = super::lock();
     let v = view_matrix(Vec3::new(0.0, 1.5, 2.0), Vec3::new(0.0, 0.6, -3.0));
     let depth = scene_depth(v);
     let mut ao = temporal_ao(AoOptions {
@@ -386,6 +390,7 @@ fn history_resets_on_reset_cut_and_resize() {
 /// 0.1° of the normal, over the whole sphere, and is an integer below 2^24 (exact in f32).
 #[test]
 fn packed_history_normals_round_trip() {
+    let _g = super::lock();
     let mut worst = 1.0f32;
     for i in 0..2000 {
         // A Fibonacci sphere: both hemispheres, the poles and the octahedron's folds.
@@ -413,6 +418,7 @@ fn packed_history_normals_round_trip() {
 /// one whose normal is turned 90° (the other face of an edge), with a still camera.
 #[test]
 fn history_with_another_normal_is_not_reused() {
+    let _g = super::lock();
     let d = scene_depth(view_matrix(
         Vec3::new(0.0, 1.5, 2.0),
         Vec3::new(0.0, 0.6, -3.0),

@@ -8,7 +8,7 @@ use crate::analytic;
 use obscura::{Ao, AoOptions, AoParams};
 
 #[test]
-#[ignore]
+#[ignore = "a timing for BENCHMARKS.md, not a test: run with --ignored"]
 fn default_frame_time_at_720p_native() {
     let _g = crate::lock();
     let c = crate::ctx();

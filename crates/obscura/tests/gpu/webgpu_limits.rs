@@ -12,6 +12,8 @@ use crate::common;
 
 #[test]
 fn every_option_runs_within_webgpu_default_limits() {
+    // Its own device, but GPU objects all the same: not while another test counts them.
+    let _g = crate::lock();
     let limits = wgpu::Limits::default();
     let c = common::context(Some(limits.clone()));
     assert_eq!(
