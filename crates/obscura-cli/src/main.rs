@@ -9,13 +9,14 @@ mod ssdo_shading;
 mod timing;
 mod views;
 
-use clap::{Parser, Subcommand};
+use clap::parser::ValueSource;
+use clap::{CommandFactory, FromArgMatches, Subcommand};
 use commands::{bench, eval, lights, render};
 use std::process::ExitCode;
 
 /// Screen-space ambient occlusion on any GPU wgpu reaches, or on the CPU through Mesa's
 /// lavapipe. Set OBSCURA_ADAPTER=cpu|gpu|<name substring> to force the adapter.
-#[derive(Debug, Parser)]
+#[derive(Debug, clap::Parser)]
 #[command(name = "obscura", version, about, long_about)]
 struct Cli {
     #[command(subcommand)]
@@ -44,7 +45,24 @@ fn main() -> ExitCode {
     if obscura::context::quiet_device_select() {
         std::env::set_var("NODEVICE_SELECT", "1");
     }
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    // Which flags the command line gave (not their defaults): a command refuses a flag
+    // that would do nothing for its input.
+    let given = |name: &str| -> options::Given {
+        let Some(m) = matches.subcommand_matches(name) else {
+            return Default::default();
+        };
+        m.ids()
+            .filter(|id| m.value_source(id.as_str()) == Some(ValueSource::CommandLine))
+            .map(|id| id.to_string())
+            .collect()
+    };
+    match &mut cli.command {
+        Command::Render(a) => a.given = given("render"),
+        Command::Eval(a) => a.given = given("eval"),
+        Command::Bench(_) | Command::Lights(_) => {}
+    }
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),

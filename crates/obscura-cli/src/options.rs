@@ -104,10 +104,10 @@ pub struct SampleArgs {
     #[arg(long, value_enum, default_value_t = PresetArg::High)]
     pub preset: PresetArg,
     /// Directions (HBAO, VO, VAO, SAO) or slices (GTAO) per pixel (1..=64). Default: the preset's.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub directions: Option<u32>,
     /// Steps per direction (1..=64). Default: the preset's.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub steps: Option<u32>,
 }
 
@@ -243,5 +243,20 @@ pub fn parse_thickness(s: &str) -> std::result::Result<f32, String> {
         Err(format!(
             "{s}: the thickness must be > 0 (times the radius) or `inf`"
         ))
+    }
+}
+
+/// The flags given on the command line (clap ids, not defaults), filled in after parsing.
+pub type Given = std::collections::BTreeSet<String>;
+
+/// Refuses the first of `rules` (a flag's clap id, whether it does nothing for this input,
+/// and why) whose flag was given: a flag that is accepted does its job.
+pub fn refuse_unused(given: &Given, rules: &[(&str, bool, &str)]) -> anyhow::Result<()> {
+    match rules
+        .iter()
+        .find(|(id, idle, _)| *idle && given.contains(*id))
+    {
+        Some((id, _, why)) => anyhow::bail!("--{} does nothing here: {why}", id.replace('_', "-")),
+        None => Ok(()),
     }
 }

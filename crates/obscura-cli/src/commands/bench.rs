@@ -54,7 +54,7 @@ pub struct BenchArgs {
     #[arg(long, default_value = "8,32,128,256")]
     pub radii: String,
     /// Timed rounds after one warm-up round; each round runs every variant once.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub runs: u32,
     #[command(flatten)]
     pub quality: QualityArgs,

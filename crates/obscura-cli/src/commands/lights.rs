@@ -25,13 +25,13 @@ pub struct LightsArgs {
     #[command(flatten)]
     pub views: ViewArgs,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 1280)]
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 720)]
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: u32,
     /// Virtual point lights scattered over the scene's surfaces.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=obscura::lights::LIGHTS_MAX as i64))]
     pub count: u32,
     /// Read the lights from a JSON file instead of scattering them: an array (or
     /// `{"lights": [...]}`) of `{"position": [x, y, z], "colour": [r, g, b], "range": r}`
@@ -40,11 +40,11 @@ pub struct LightsArgs {
     pub lights_file: Option<PathBuf>,
     /// Interleaving periods N to compare with every light (comma-separated; each pixel of
     /// an N×N tile shades 1/N² of the lights): 2, 4 or 8.
-    #[arg(long, value_delimiter = ',', default_value = "2,4")]
+    #[arg(long, value_delimiter = ',', default_value = "2,4", value_parser = clap::value_parser!(u32).range(2..=8))]
     pub periods: Vec<u32>,
     /// Timed runs per variant after a warm-up, interleaved across variants; the median is
     /// reported.
-    #[arg(long, default_value_t = 7)]
+    #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
     /// Seed of the light placement.
     #[arg(long, default_value_t = 1)]
@@ -120,10 +120,6 @@ fn check(a: &LightsArgs) -> Result<()> {
     if a.runs == 0 || a.runs > 1000 {
         bail!("--runs must be 1 to 1000, got {}", a.runs);
     }
-    if let Some(dir) = &a.out_dir {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create `{}`", dir.display()))?;
-    }
     Ok(())
 }
 
@@ -131,6 +127,11 @@ pub fn run(a: &LightsArgs) -> Result<()> {
     check(a)?;
     let jobs = a.views.jobs()?;
     let file_lights = a.lights_file.as_deref().map(read_lights).transpose()?;
+    // The pictures' folder once every input has been read.
+    if let Some(dir) = &a.out_dir {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create `{}`", dir.display()))?;
+    }
     let count = file_lights.as_ref().map_or(a.count as usize, Vec::len);
     let ctx = GpuContext::new()?;
     eprintln!("adapter: {}", ctx.describe());

@@ -1,7 +1,7 @@
 //! Quality presets: each estimator's directions, steps and march exponent per preset,
 //! for the options' layout and resolution.
 
-use super::{AoOptions, Estimator, Resolution, MIN_SCALE};
+use super::{AoOptions, Estimator, Resolution};
 
 /// Quality presets. Each estimator's directions (slices for GTAO) and steps are chosen so
 /// that a preset costs about the same number of samples per pixel with every estimator:
@@ -15,14 +15,21 @@ use super::{AoOptions, Estimator, Resolution, MIN_SCALE};
 ///
 /// `High` for GTAO and the bitmask depends on the layout and resolution
 /// ([`AoOptions::with_preset`], [`AoOptions::lattice_px`]): where the samples' lattice is
-/// fine (2×2 layers at full resolution, the randomized layout at full and half
-/// resolution) three slices of five steps crowded toward the centre
+/// fine (2×2 layers at full or scaled resolution, the randomized layout at full, half and
+/// scaled resolution) three slices of five steps crowded toward the centre
 /// ([`HIGH_MARCH_EXPONENT`]) find the contact shadows a few pixels wide that four even
 /// steps step over; with fewer samples they were better than 4 × 4 there on the mean of
 /// the shared views, and at full resolution on every view (docs/thickness.md, "Steps
-/// and slices"). Where the lattice is coarser (4×4 layers, 2×2 layers below full resolution,
-/// the randomized layout at quarter or scaled resolution) the crowded steps land on a few
-/// lattice points, the far field thins and the AO brightens, so `High` keeps 4 × 4 evenly.
+/// and slices"). Where the lattice is coarser (4×4 layers, 2×2 layers at half or quarter
+/// resolution, the randomized layout at quarter resolution) the crowded steps land on a
+/// few lattice points, the far field thins and the AO brightens, so `High` keeps 4 × 4
+/// evenly. `Resolution::Scaled` counts at scale 1, so that at scale 1 it is the
+/// full-resolution frame of the same options: it gives up a little at its smallest scales
+/// (GTAO 2×2 with the denoiser on the shared views: 0.1165 against 4 × 4's 0.1117 at scale
+/// 0.35, 0.0927 against 0.0905 at 0.5, 0.0739 against 0.0735 at 0.7) for 0.0562 against
+/// 0.0583 at 1 (2026-11-29, lavapipe: `obscura eval --all --estimators gtao --modes
+/// deinterleaved2 --resolutions full --scales 0.35,0.5,0.7,1 --splits 3x5,4x4
+/// --march-exponents 1,1.3 --denoise spatial --runs 3 --no-pictures --no-screen-reference`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Preset {
     Low,
@@ -85,11 +92,12 @@ impl AoOptions {
     }
 
     /// The spacing of the lattice the AO pass samples on, in full-resolution pixels: the
-    /// layout's split (1, 2 or 4) times the resolution's factor. `Scaled` counts at its
-    /// smallest scale ([`MIN_SCALE`]), since its scale changes per frame.
+    /// layout's split (1, 2 or 4) times the resolution's factor. `Scaled` counts at scale
+    /// 1, where it is the full-resolution frame (its scale changes per frame; see
+    /// [`Preset`]).
     pub fn lattice_px(&self) -> f32 {
         let factor = match self.resolution {
-            Resolution::Scaled => 1.0 / MIN_SCALE,
+            Resolution::Scaled => 1.0,
             r => r.factor() as f32,
         };
         self.mode.split() as f32 * factor
@@ -130,14 +138,54 @@ mod tests {
                                 && matches!(e, Estimator::Gtao | Estimator::Bitmask)
                                 && (mode == AoMode::Randomized
                                     && resolution != Resolution::Quarter
-                                    && resolution != Resolution::Scaled
                                     || mode == AoMode::Deinterleaved2
-                                        && resolution == Resolution::Full),
+                                        && matches!(
+                                            resolution,
+                                            Resolution::Full | Resolution::Scaled
+                                        )),
                             "{e:?} {preset:?} {mode:?} {resolution:?}"
                         );
                     }
                 }
             }
         }
+    }
+
+    /// The working scale at scale 1 is the default frame: `High` gives the scaled
+    /// resolution full resolution's samples in every layout, and the GPU test
+    /// `scaled_resolution_matches_cpu_reference_and_is_full_resolution_at_scale_one` holds
+    /// the two frames of the same options to rounding.
+    #[test]
+    fn the_scaled_resolution_takes_full_resolutions_samples() {
+        for mode in AoMode::ALL {
+            for e in [Estimator::Gtao, Estimator::Bitmask, Estimator::Hbao] {
+                let at = |resolution| {
+                    let o = AoOptions {
+                        estimator: e,
+                        mode,
+                        resolution,
+                        ..AoOptions::default()
+                    }
+                    .with_preset(Preset::High);
+                    (o.directions, o.steps, o.march_exponent)
+                };
+                assert_eq!(
+                    at(Resolution::Scaled),
+                    at(Resolution::Full),
+                    "{e:?} {mode:?}"
+                );
+            }
+        }
+        assert_eq!(
+            AoOptions {
+                resolution: Resolution::Scaled,
+                ..AoOptions::default()
+            }
+            .with_preset(Preset::High),
+            AoOptions {
+                resolution: Resolution::Scaled,
+                ..AoOptions::default()
+            }
+        );
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::options::{
     parse_denoise, parse_downsample, parse_resolution, parse_thickness, parse_upsampler,
-    EstimatorArg, ModeArg, NormalSource, PresetArg, SampleArgs,
+    refuse_unused, EstimatorArg, Given, ModeArg, NormalSource, PresetArg, SampleArgs,
 };
 use crate::views::ViewArgs;
 use anyhow::{bail, Result};
@@ -57,16 +57,16 @@ pub struct EvalArgs {
     #[command(flatten)]
     pub views: ViewArgs,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 640)]
+    #[arg(long, default_value_t = 640, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub height: u32,
     /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
     #[arg(long)]
     pub radius: Option<f32>,
     /// Rays per pixel of the ray-traced reference.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub rays: u32,
     /// How the reference weighs a hit within the radius.
     #[arg(long, value_enum, default_value_t = FalloffArg::None)]
@@ -130,7 +130,7 @@ pub struct EvalArgs {
     /// the bands differ by what they see, not by depth rounding (the orbit of --frames too).
     /// The truth and the pictures stay the view's. A renderer's clean depth, single-sampled
     /// or with --msaa (the multisampled depth then rasterized with the widest band).
-    #[arg(long, value_delimiter = ',', default_value = "0")]
+    #[arg(long, value_delimiter = ',', default_value = "0", value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub guard_bands: Vec<u32>,
     /// Also run each full-resolution bitmask variant with a finite --thickness with a
     /// second depth layer (`AoOptions::second_layer`), peeled from the view's raster at its
@@ -185,7 +185,7 @@ pub struct EvalArgs {
     #[arg(long, value_enum)]
     pub normals: Option<NormalSource>,
     /// Timed runs per mode after a warm-up (interleaved across modes); the median is reported.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
     /// Folder for the report's pictures; created if missing.
     #[arg(long, value_name = "DIR")]
@@ -219,7 +219,7 @@ pub struct EvalArgs {
     /// frames (--orbit-step degrees apart) ending at the view, scored by how long each
     /// pixel has been visible. The frontier ranks an accumulated variant by the worse of its
     /// still and orbit RMSE.
-    #[arg(long, value_delimiter = ',', default_value = "1")]
+    #[arg(long, value_delimiter = ',', default_value = "1", value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub frames: Vec<u32>,
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=256))]
@@ -280,6 +280,9 @@ pub struct EvalArgs {
     /// materials, so their surfaces are white (glTF's default); 0.5 is closer to real ones.
     #[arg(long, default_value_t = 1.0, requires = "ssdo")]
     pub albedo_scale: f32,
+    /// The flags the command line gave (filled in after parsing).
+    #[arg(skip)]
+    pub given: Given,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -339,7 +342,93 @@ impl EvalArgs {
 
 /// Validates the arguments that need no file or GPU (those of --ssdo are checked once the
 /// views are known).
+/// Each flag that would do nothing in this run, with the reason: refused, so that a flag
+/// that is accepted does its job.
+fn check_unused(a: &EvalArgs) -> Result<()> {
+    let has = |e: EstimatorArg| a.estimators.contains(&e);
+    let bitmask = has(EstimatorArg::Bitmask);
+    let marching = bitmask || has(EstimatorArg::Gtao);
+    let bent = marching || has(EstimatorArg::Hbao);
+    let low = a.resolutions.iter().any(|r| *r != Resolution::Full) || !a.scales.is_empty();
+    let accumulates = a.frames.iter().any(|&f| f > 1);
+    let counts = !a.presets.is_empty() || !a.splits.is_empty();
+    let pictures = a.report.is_some() && !a.no_pictures;
+    let ssdo = "--ssdo runs GTAO at full resolution with the library's denoiser";
+    refuse_unused(
+        &a.given,
+        &[
+            (
+                "thickness",
+                !bitmask,
+                "it is the bitmask's thickness prior (--estimators)",
+            ),
+            (
+                "second_layer",
+                !bitmask,
+                "only the bitmask reads a second layer (--estimators)",
+            ),
+            (
+                "march_exponents",
+                !marching,
+                "only gtao and the bitmask march their steps",
+            ),
+            (
+                "downsamples",
+                !low,
+                "they apply below full resolution (--resolutions, --scales)",
+            ),
+            (
+                "upsamplers",
+                !low,
+                "they apply below full resolution (--resolutions, --scales)",
+            ),
+            (
+                "bent_normals",
+                !bent,
+                "only gtao, hbao and the bitmask have bent normals",
+            ),
+            (
+                "history",
+                !accumulates,
+                "it is the length of an accumulation (--frames above 1)",
+            ),
+            (
+                "orbit_step",
+                !accumulates,
+                "the orbit scores accumulated frames (--frames above 1)",
+            ),
+            (
+                "sensor_noise",
+                a.sensor == SensorArg::None,
+                "it scales --sensor's noise",
+            ),
+            (
+                "normals",
+                a.msaa && a.normals == Some(NormalSource::Gbuffer),
+                "--msaa reconstructs the normals from the resolved depth",
+            ),
+            ("preset", counts, "--presets or --splits give the samples"),
+            (
+                "directions",
+                counts,
+                "--presets or --splits give the samples",
+            ),
+            ("steps", counts, "--presets or --splits give the samples"),
+            (
+                "no_pictures",
+                a.report.is_none(),
+                "it leaves the pictures out of --report",
+            ),
+            ("picture_scale", !pictures, "it sizes --report's pictures"),
+            ("estimators", a.ssdo, ssdo),
+            ("resolutions", a.ssdo, ssdo),
+            ("denoise", a.ssdo, ssdo),
+        ],
+    )
+}
+
 pub(super) fn check(a: &EvalArgs) -> Result<()> {
+    check_unused(a)?;
     if a.width == 0 || a.height == 0 || a.width > 8192 || a.height > 8192 {
         bail!(
             "--width and --height must be in 1..=8192 (got {}x{})",
@@ -379,9 +468,6 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     if !(0.0..=10.0).contains(&a.sensor_noise) {
         bail!("--sensor-noise must be in 0..=10 (got {})", a.sensor_noise);
     }
-    if a.sensor_noise != 1.0 && a.sensor == SensorArg::None {
-        bail!("--sensor-noise needs --sensor");
-    }
     if let Some(f) = a.frames.iter().find(|f| !(1..=1000).contains(*f)) {
         bail!("--frames must each be in 1..=1000 (got {f})");
     }
@@ -400,9 +486,6 @@ pub(super) fn check(a: &EvalArgs) -> Result<()> {
     }
     if a.guard_bands.is_empty() {
         bail!("--guard-bands needs at least one value (0 for none)");
-    }
-    if let Some(g) = a.guard_bands.iter().find(|&&g| g > 1024) {
-        bail!("--guard-bands must each be in 0..=1024 pixels (got {g})");
     }
     if a.guard_bands.iter().any(|&g| g > 0) && a.sensor != SensorArg::None {
         bail!(

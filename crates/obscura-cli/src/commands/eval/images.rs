@@ -41,8 +41,9 @@ pub(super) fn image_dirs(dirs: &[PathBuf]) -> Result<Vec<ImageDir>> {
     Ok(out)
 }
 
-/// The AO image of `view` in `dir` (`VIEW.png`, 8- or 16-bit grey, or `VIEW.exr`, float,
-/// its luminance), as `width` × `height` values, 1 = unoccluded.
+/// The AO image of `view` in `dir` (`VIEW.png`, 8- or 16-bit grey, or `VIEW.exr`: one
+/// channel such as Y, or the luminance of R, G and B), as `width` × `height` values in
+/// [0, 1], 1 = unoccluded.
 pub(super) fn load_view(dir: &Path, view: &str, width: u32, height: u32) -> Result<Vec<f32>> {
     let path = EXTENSIONS
         .iter()
@@ -54,20 +55,63 @@ pub(super) fn load_view(dir: &Path, view: &str, width: u32, height: u32) -> Resu
                 dir.display()
             )
         })?;
-    let img = image::open(&path).with_context(|| format!("cannot read `{}`", path.display()))?;
-    if (img.width(), img.height()) != (width, height) {
+    let ((w, h), values) = if path.extension().is_some_and(|e| e == "exr") {
+        read_exr(&path)?
+    } else {
+        let img =
+            image::open(&path).with_context(|| format!("cannot read `{}`", path.display()))?;
+        ((img.width(), img.height()), img.to_luma32f().into_raw())
+    };
+    if (w, h) != (width, height) {
         bail!(
-            "`{}` is {}x{}; eval renders {width}x{height} (--width, --height)",
-            path.display(),
-            img.width(),
-            img.height()
+            "`{}` is {w}x{h}; eval renders {width}x{height} (--width, --height)",
+            path.display()
         );
     }
-    let values: Vec<f32> = img.to_luma32f().into_raw();
-    if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        bail!("`{}` holds {bad}; AO must be finite", path.display());
+    if let Some(i) = values.iter().position(|v| !(0.0..=1.0).contains(v)) {
+        bail!(
+            "`{}` holds {} at pixel ({}, {}); AO must be in [0, 1] (1 = unoccluded)",
+            path.display(),
+            values[i],
+            i as u32 % w,
+            i as u32 / w
+        );
     }
     Ok(values)
+}
+
+/// An EXR's size and grey values, row by row: its only channel (a Y image), else the
+/// Rec. 709 luminance of its R, G and B channels (alpha ignored).
+fn read_exr(path: &Path) -> Result<((u32, u32), Vec<f32>)> {
+    let image = exr::prelude::read_first_flat_layer_from_file(path)
+        .with_context(|| format!("cannot read `{}`", path.display()))?;
+    let layer = image.layer_data;
+    let size = (layer.size.width() as u32, layer.size.height() as u32);
+    let channels = &layer.channel_data.list;
+    let named = |n: &str| channels.iter().find(|c| c.name.to_string() == n);
+    let values: Vec<f32> = match (channels.len(), named("R"), named("G"), named("B")) {
+        (1, ..) => channels[0].sample_data.values_as_f32().collect(),
+        (_, Some(r), Some(g), Some(b)) => r
+            .sample_data
+            .values_as_f32()
+            .zip(g.sample_data.values_as_f32())
+            .zip(b.sample_data.values_as_f32())
+            .map(|((r, g), b)| 0.2126 * r + 0.7152 * g + 0.0722 * b)
+            .collect(),
+        _ => match named("Y") {
+            Some(y) => y.sample_data.values_as_f32().collect(),
+            None => bail!(
+                "`{}` has channels {}; AO is one channel (Y) or R, G and B",
+                path.display(),
+                channels
+                    .iter()
+                    .map(|c| c.name.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        },
+    };
+    Ok((size, values))
 }
 
 /// `eval --export-views FILE`: each view's scene, camera and AO radius (the rule eval uses:

@@ -77,6 +77,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         return images::export_views(a, &jobs, path);
     }
     let image_dirs = images::image_dirs(&a.score_images)?;
+    // Every image read once before any work: a bad one fails the run before a folder is
+    // made or a reference traced.
+    for d in &image_dirs {
+        for job in &jobs {
+            images::load_view(&d.dir, &job.name, a.width, a.height)?;
+        }
+    }
     if let Some(dir) = &a.report {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create `{}`", dir.display()))?;

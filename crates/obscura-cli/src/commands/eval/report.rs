@@ -252,46 +252,60 @@ pub(super) fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
     s
 }
 
+/// A JSON number at full precision (the shortest decimal that reads back as the same
+/// value), or null for a missing or non-finite one.
+fn num<T: Into<f64>>(v: Option<T>) -> String {
+    match v.map(Into::into) {
+        Some(x) if x.is_finite() => format!("{x}"),
+        _ => "null".into(),
+    }
+}
+
+/// The eval's JSON: each view's radius, reference error and triangle count, then one record
+/// per view and variant, every figure at full precision (f32 errors and angles as the f32
+/// they are, so two runs can be compared to the last bit).
 pub(super) fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
+    let text = |t: &str| serde_json::to_string(t).expect("a string serializes");
     let mut s = String::from("{\n  \"views\": [\n");
     for (i, (name, radius, se, tris)) in info.iter().enumerate() {
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{name}\", \"radius\": {radius}, \"reference_mean_std_error\": {se}, \"triangles\": {tris}}}{}",
+            "    {{\"view\": {}, \"radius\": {}, \"reference_mean_std_error\": {}, \"triangles\": {tris}}}{}",
+            text(name),
+            num32(Some(*radius)),
+            num32(Some(*se)),
             if i + 1 == info.len() { "" } else { "," }
         );
     }
     s.push_str("  ],\n  \"records\": [\n");
     for (i, r) in rows.iter().enumerate() {
+        let t = r.temporal;
+        let d = t.and_then(|t| t.disoccluded);
         let _ = writeln!(
             s,
-            "    {{\"view\": \"{}\", \"variant\": \"{}\", \"estimator\": \"{}\", \"mode\": \"{}\", \"rmse\": {:.5}, \"bias\": {:.5}, \"ssim\": {:.5}, \"band_rmse\": {:.5}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"frames\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
-            r.view,
-            r.variant,
-            r.estimator,
-            r.mode,
-            r.rmse,
-            r.bias,
-            r.ssim,
-            r.band_rmse,
-            r.screen_rmse.map_or("null".to_string(), |m| format!("{m:.5}")),
-            r.screen_bias.map_or("null".to_string(), |b| format!("{b:.5}")),
-            r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.0)),
-            r.full_rmse.map_or("null".to_string(), |m| format!("{:.5}", m.1)),
-            r.ms.map_or("null".to_string(), |m| format!("{m:.4}")),
-            r.temporal.map_or(1, |t| t.frames),
-            r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.flicker)),
-            r.temporal.map_or("null".to_string(), |t| format!("{:.5}", t.orbit_rmse)),
-            r.temporal
-                .and_then(|t| t.disoccluded)
-                .map_or("null".to_string(), |d| format!("{:.5}", d.0)),
-            r.temporal
-                .and_then(|t| t.disoccluded)
-                .map_or("null".to_string(), |d| format!("{:.5}", d.1)),
-            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.bent)),
-            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.bent_occluded)),
-            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.normal)),
-            r.bent.map_or("null".to_string(), |e| format!("{:.3}", e.normal_occluded)),
+            "    {{\"view\": {}, \"variant\": {}, \"estimator\": {}, \"mode\": {}, \"rmse\": {}, \"bias\": {}, \"ssim\": {}, \"band_rmse\": {}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"frames\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
+            text(&r.view),
+            text(&r.variant),
+            text(&r.estimator),
+            text(&r.mode),
+            num32(Some(r.rmse)),
+            num32(Some(r.bias)),
+            num32(Some(r.ssim)),
+            num32(Some(r.band_rmse)),
+            num32(r.screen_rmse),
+            num32(r.screen_bias),
+            num32(r.full_rmse.map(|m| m.0)),
+            num32(r.full_rmse.map(|m| m.1)),
+            num(r.ms),
+            t.map_or(1, |t| t.frames),
+            num32(t.map(|t| t.flicker)),
+            num32(t.map(|t| t.orbit_rmse)),
+            num32(d.map(|d| d.0)),
+            num32(d.map(|d| d.1)),
+            num32(r.bent.map(|e| e.bent)),
+            num32(r.bent.map(|e| e.bent_occluded)),
+            num32(r.bent.map(|e| e.normal)),
+            num32(r.bent.map(|e| e.normal_occluded)),
             if i + 1 == rows.len() { "" } else { "," }
         );
     }
@@ -299,9 +313,17 @@ pub(super) fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
     s
 }
 
+/// [`num`] of an f32, written as the shortest decimal that reads back as that f32.
+fn num32(v: Option<f32>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{x}"),
+        _ => "null".into(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{mixed_summary, Row};
+    use super::{json, mixed_summary, Row};
 
     /// A row of one view with only what the mixed summary reads.
     fn row(variant: &str, ms: f64, full_rmse: Option<(f32, f32)>) -> Row {
@@ -358,5 +380,27 @@ mod tests {
             "{s}"
         );
         assert_eq!(speedup("gtao randomized high"), "1.00×", "{s}");
+    }
+
+    /// Every figure reads back as the very f32 (or f64) it was, so two runs' JSON compare
+    /// to the last bit; names are escaped; missing figures are null.
+    #[test]
+    fn json_keeps_every_figure_to_the_last_bit() {
+        let mut r = row("gtao \"odd\" name", 12.345_678_901_234, Some((0.1, 0.2)));
+        r.rmse = 0.123_456_79;
+        r.bias = -1.234_567_9e-7;
+        r.ssim = 0.999_999_9;
+        let s = json(&[r], &[("v".into(), 1.234_567_9, 3.0e-5, 7)]);
+        let v: serde_json::Value = serde_json::from_str(&s).expect("valid JSON");
+        let rec = &v["records"][0];
+        let f32_of = |x: &serde_json::Value| x.as_f64().expect("a number") as f32;
+        assert_eq!(f32_of(&rec["rmse"]), 0.123_456_79);
+        assert_eq!(f32_of(&rec["bias"]), -1.234_567_9e-7);
+        assert_eq!(f32_of(&rec["ssim"]), 0.999_999_9);
+        assert_eq!(f32_of(&rec["full_rmse"]), 0.1);
+        assert_eq!(rec["median_ms"].as_f64(), Some(12.345_678_901_234));
+        assert_eq!(rec["variant"], "gtao \"odd\" name");
+        assert!(rec["screen_rmse"].is_null() && rec["flicker"].is_null());
+        assert_eq!(f32_of(&v["views"][0]["radius"]), 1.234_567_9);
     }
 }

@@ -1,7 +1,7 @@
 //! The arguments of `obscura render` (`RenderArgs`), their checks, and the AO options and
 //! parameters they give; shared by the scene, depth-map and orbit paths.
 
-use crate::options::{ModeArg, NormalSource, QualityArgs, ResolutionArgs};
+use crate::options::{refuse_unused, Given, ModeArg, NormalSource, QualityArgs, ResolutionArgs};
 use crate::output::{check_ao_path, check_png_path, check_vectors_path};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
@@ -62,10 +62,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub far: Option<f32>,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 1280)]
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 720)]
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub height: u32,
     /// AO radius in scene units. Default: 3% of the scene's bounding-box diagonal.
     #[arg(long)]
@@ -174,10 +174,13 @@ pub struct RenderArgs {
     /// and .exr are float32).
     #[arg(long, default_value_t = 8, value_parser = parse_bits)]
     pub bits: u8,
-    /// Also write a linear-depth visualization PNG (near = bright, sky = black).
+    /// Also write a linear-depth visualization PNG (near = bright, sky = black) of the depth
+    /// the AO read: the scene's G-buffer, or the depth map (after its noise model's plane
+    /// fits, if any).
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
-    /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5).
+    /// Also write a view-space normal visualization PNG (xyz * 0.5 + 0.5) of the normals the
+    /// AO read: the G-buffer's, the --normals-file's, or those reconstructed from depth.
     #[arg(long, value_name = "FILE")]
     pub normals_out: Option<PathBuf>,
     /// Also write the bent normals of GTAO, HBAO or the bitmask (view space, unit, the cosine-weighted mean unoccluded
@@ -187,11 +190,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub bent_normals_out: Option<PathBuf>,
     /// Timed AO runs after one warm-up run; the median is reported (single frames).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
     /// Frames to record with temporal accumulation (1: a single frame, no history): a still
     /// camera, or the --orbit path. Per-frame and total times are reported.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100000))]
     pub frames: u32,
     /// Most frames the temporal history averages (with --frames > 1), 2..=256.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=256))]
@@ -214,7 +217,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "MS", requires = "orbit")]
     pub budget_ms: Option<f64>,
     /// What --budget-ms turns: `joint`, the working scale in [0.25, top] at the preset
-    /// given and above it full resolution at the medium, high and ultra presets
+    /// given and above it full resolution from the medium preset to ultra, with rungs of
+    /// more slices and steps between high and ultra
     /// (`obscura::budget::JointController`; the top is where the scaled AO costs what full
     /// medium does, measured on the first view); `scale`, the working scale alone in
     /// [0.25, 1] (`obscura::budget::ScaleController`, the preset as given); or `ladder`,
@@ -233,6 +237,9 @@ pub struct RenderArgs {
     /// the zenith, +y; the left edge facing +x, columns turning toward +z).
     #[arg(long, default_value = "sky", requires = "ssdo")]
     pub env: String,
+    /// The flags the command line gave (filled in after parsing).
+    #[arg(skip)]
+    pub given: Given,
 }
 
 /// The knob of `render --budget-ms`.
@@ -251,8 +258,65 @@ fn parse_bits(s: &str) -> Result<u8, String> {
     }
 }
 
+/// Each flag that would do nothing for this input, with the reason: refused, so that a
+/// flag that is accepted does its job.
+fn check_unused(a: &RenderArgs) -> Result<()> {
+    let e = Estimator::from(a.quality.estimator);
+    let depth = a.depth.is_some();
+    let full = a.resolution.resolution == Resolution::Full;
+    let ortho = a.projection == ProjectionKind::Orthographic;
+    let frames = a.frames > 1 || a.orbit.is_some();
+    let camera_fov = a
+        .camera
+        .as_deref()
+        .is_some_and(|c| c.split(',').count() == 7);
+    let png = a
+        .out
+        .extension()
+        .is_some_and(|x| x.eq_ignore_ascii_case("png"));
+    let pyramid = e.uses_pyramid()
+        || e.uses_moments()
+        || (!full && a.resolution.upsample == obscura::Upsampler::Classified);
+    let camera = "a depth map's camera is its --intrinsics";
+    refuse_unused(
+        &a.given,
+        &[
+            ("camera", depth, camera),
+            ("up", depth, camera),
+            ("projection", depth, camera),
+            ("fov", depth, camera),
+            ("ortho_height", depth, camera),
+            ("near", depth, camera),
+            ("far", depth, camera),
+            ("width", depth, "a depth map's AO has the map's size"),
+            ("height", depth, "a depth map's AO has the map's size"),
+            ("normals", depth, "a depth map's normals are --normals-file's, or made from its depth"),
+            ("normals", a.msaa && a.normals == NormalSource::Gbuffer, "--msaa reconstructs the normals from the resolved depth"),
+            ("fov", ortho, "it is a perspective camera's; --ortho-height sizes an orthographic one"),
+            ("fov", camera_fov, "--camera's seventh value gives the field of view"),
+            ("ortho_height", !ortho, "it sizes an orthographic view (--projection orthographic)"),
+            ("bias", !matches!(e, Estimator::Hbao | Estimator::Sao), "it is the tangent bias of hbao and sao"),
+            ("thickness", e != Estimator::Bitmask, "it is the bitmask's thickness prior"),
+            ("march_exponent", !matches!(e, Estimator::Gtao | Estimator::Bitmask), "only gtao and the bitmask march their steps"),
+            ("pyramid", !pyramid, "only sao, vo-area and the classified upsampler read a depth pyramid"),
+            ("downsample", full, "it applies below full resolution (--resolution)"),
+            ("upsample", full, "it applies below full resolution (--resolution)"),
+            ("unfused", a.mode == ModeArg::Randomized && full, "at full resolution the randomized layout has no split, merge or downsample to fuse"),
+            ("history", !frames, "it is the length of --frames' or --orbit's accumulation"),
+            ("runs", frames, "--frames and --orbit time each of their own frames"),
+            ("bits", !png, "it sets a PNG's bit depth; .npy and .exr are float32"),
+            ("normals_frame", a.normals_file.is_none(), "it gives the axes of --normals-file"),
+            ("env", a.ssdo.is_none(), "it is the environment --ssdo lights the scene with"),
+            ("out_dir", a.orbit.is_none(), "it holds --orbit's frames"),
+            ("depth_out", a.orbit.is_some(), "it writes one frame; --orbit writes its frames alone"),
+            ("normals_out", a.orbit.is_some(), "it writes one frame; --orbit writes its frames alone"),
+        ],
+    )
+}
+
 /// Validates every argument that needs no file or GPU.
 pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
+    check_unused(a)?;
     if a.width == 0 || a.height == 0 {
         bail!(
             "--width and --height must be at least 1 (got {}x{})",
@@ -282,6 +346,13 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
             bail!("--budget-ms must be a number of milliseconds in (0, 1e6] (got {b})");
         }
     }
+    if a.second_layer && !a.thickness.is_finite() {
+        bail!(
+            "--second-layer is peeled --thickness radii behind the first layer and is a solid \
+             that deep: it needs a finite --thickness (got {})",
+            a.thickness
+        );
+    }
     check_ao_path(&a.out)?;
     for p in [&a.depth_out, &a.normals_out].into_iter().flatten() {
         check_png_path(p)?;
@@ -289,7 +360,7 @@ pub(crate) fn check_args(a: &RenderArgs) -> Result<()> {
     if let Some(p) = &a.bent_normals_out {
         if !Estimator::from(a.quality.estimator).has_bent_normals() {
             bail!(
-                "--bent-normals-out needs --estimator gtao or hbao (bent normals come from their horizons)"
+                "--bent-normals-out needs --estimator gtao, hbao or bitmask (bent normals come from their horizons)"
             );
         }
         if a.orbit.is_some() {

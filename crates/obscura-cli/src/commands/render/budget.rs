@@ -115,10 +115,16 @@ pub fn orbit(mut orbit: Orbit, base: AoOptions, params: &AoParams, budget_ms: f6
     })?;
     let n = a.frames;
     let mut frames: Vec<Frame> = Vec::with_capacity(n as usize);
+    let mut floor = Floor::default();
     for k in 0..n {
         let level = kept[control.level()];
         // A level's history is from the last frame it ran, not the previous one: restart it.
         let ms = orbit.frame(k, &mut levels[level], level, 1.0, params)?;
+        floor.frame(
+            (level == kept[0]).then(|| name(level)).as_deref(),
+            ms,
+            budget_ms,
+        );
         control.update(ms);
         frames.push((level, ms));
         eprintln!(
@@ -128,8 +134,12 @@ pub fn orbit(mut orbit: Orbit, base: AoOptions, params: &AoParams, budget_ms: f6
             (ms / budget_ms - 1.0) * 100.0
         );
     }
+    let dearest = frames
+        .iter()
+        .filter(|f| f.0 == kept[kept.len() - 1] && f.1 < 0.85 * budget_ms)
+        .count();
     eprintln!(
-        "budget: {}, {} level changes",
+        "budget: {}, {} level changes; {dearest} frames under it at the dearest level",
         summary(&frames.iter().map(|f| f.1).collect::<Vec<_>>(), budget_ms),
         frames.windows(2).filter(|w| w[0].0 != w[1].0).count()
     );
@@ -214,6 +224,32 @@ impl Orbit<'_> {
     }
 }
 
+/// Says once that the budget is below what the view costs: on the third frame in a row
+/// more than 15% over it at the cheapest setting the controller has.
+#[derive(Debug, Default)]
+struct Floor {
+    over: u32,
+    said: bool,
+}
+
+impl Floor {
+    fn frame(&mut self, cheapest: Option<&str>, ms: f64, budget_ms: f64) {
+        self.over = match cheapest {
+            Some(_) if ms > 1.15 * budget_ms => self.over + 1,
+            _ => 0,
+        };
+        if let (3, false, Some(setting)) = (self.over, self.said, cheapest) {
+            self.said = true;
+            eprintln!(
+                "budget: {budget_ms} ms cannot be held on this view: its cheapest setting \
+                 ({setting}) takes {} ms, and the orbit runs on there (a smaller --width and \
+                 --height, or a larger --budget-ms, can be held)",
+                fmt_ms(ms)
+            );
+        }
+    }
+}
+
 /// `frames within ±15% of the budget; median`, for the last line of a run.
 fn summary(times: &[f64], budget_ms: f64) -> String {
     let within = times
@@ -273,11 +309,14 @@ pub fn orbit_scaled(
     );
     let n = a.frames;
     let mut frames: Vec<(f32, f64)> = Vec::with_capacity(n as usize);
+    let mut floor = Floor::default();
     for k in 0..n {
         let scale = control.scale();
         // The history is on the working grid; the temporal pass reprojects it into last
         // frame's grid, so it carries over a change of scale.
         let ms = orbit.frame(k, &mut ao, 0, scale, params)?;
+        let cheapest = scale <= obscura::MIN_SCALE + 1e-4;
+        floor.frame(cheapest.then_some("scale 0.25"), ms, budget_ms);
         control.update(ms);
         frames.push((scale, ms));
         eprintln!(
@@ -310,8 +349,76 @@ pub fn orbit_scaled(
 /// 21.9 ms) and worse in the randomized one (0.0790 at 24.4 ms against 0.0682 at 0.7, 24.2
 /// ms), while from the medium preset up full resolution wins (2×2 0.0704 at 20.6 ms,
 /// randomized 0.0623 at 26.0 ms). So the scale runs the preset given, and full resolution
-/// starts at medium.
-pub const JOINT_RUNGS: [Preset; 3] = [Preset::Medium, Preset::High, Preset::Ultra];
+/// starts at medium. Between the presets, rungs of more slices and steps keep each rung
+/// within about 15% of the next one's cost (on lavapipe a frame costs a fixed part and
+/// about 0.8 ms per sample at 640×400), so that a budget between two presets is held
+/// rather than undershot: with the presets alone a budget between high and ultra ran
+/// high, 17% under it (38 of 100 frames within ±15% of 100 ms on the built-in scene at
+/// 640×400, 2026-11-29, lavapipe).
+pub fn joint_rungs(e: obscura::Estimator) -> Vec<Rung> {
+    use Rung::{Preset as P, Samples as S};
+    if matches!(e, obscura::Estimator::Gtao | obscura::Estimator::Bitmask) {
+        vec![
+            P(Preset::Medium),
+            P(Preset::High),
+            S(4, 5, obscura::HIGH_MARCH_EXPONENT),
+            S(4, 6, obscura::HIGH_MARCH_EXPONENT),
+            S(4, 8, obscura::HIGH_MARCH_EXPONENT),
+            S(6, 7, obscura::HIGH_MARCH_EXPONENT),
+            P(Preset::Ultra),
+        ]
+    } else {
+        let even = obscura::EVEN_MARCH_EXPONENT;
+        vec![
+            P(Preset::Medium),
+            P(Preset::High),
+            S(8, 5, even),
+            S(10, 5, even),
+            S(12, 5, even),
+            S(14, 6, even),
+            P(Preset::Ultra),
+        ]
+    }
+}
+
+/// A full-resolution rung of the joint controller: a preset's samples, or directions
+/// (slices) × steps at a march exponent between two presets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rung {
+    Preset(Preset),
+    Samples(u32, u32, f32),
+}
+
+impl Rung {
+    fn name(self) -> String {
+        match self {
+            Rung::Preset(p) => preset_name(p).into(),
+            Rung::Samples(d, s, _) => format!("{d}×{s}"),
+        }
+    }
+
+    /// `base` at full resolution with this rung's samples (an explicit march exponent
+    /// kept).
+    fn options(self, base: AoOptions, exponent: Option<f32>) -> AoOptions {
+        let full = AoOptions {
+            resolution: Resolution::Full,
+            ..base
+        };
+        let o = match self {
+            Rung::Preset(p) => full.with_preset(p),
+            Rung::Samples(directions, steps, march_exponent) => AoOptions {
+                directions,
+                steps,
+                march_exponent,
+                ..full
+            },
+        };
+        AoOptions {
+            march_exponent: exponent.unwrap_or(o.march_exponent),
+            ..o
+        }
+    }
+}
 
 /// Scales at which the scaled AO is timed on the first view, to fit `floor + c × s²`.
 const FIT_SCALES: [f32; 4] = [0.25, 0.5, 0.75, 1.0];
@@ -335,7 +442,7 @@ fn fit_affine_in_area(points: &[(f32, f64)]) -> (f64, f64) {
 
 /// Runs the orbit under the budget with both knobs (`JointController`): one `Ao` at
 /// `Resolution::Scaled` at the preset given, below the scale where it costs what the
-/// cheapest full-resolution rung does, and full-resolution `Ao`s at the `JOINT_RUNGS`
+/// cheapest full-resolution rung does, and full-resolution `Ao`s at the `joint_rungs`
 /// presets above it. `base` carries the estimator, preset, layout, denoiser and history.
 pub fn orbit_joint(
     mut orbit: Orbit,
@@ -345,15 +452,10 @@ pub fn orbit_joint(
 ) -> Result<()> {
     let (a, ctx, cam, dir) = (orbit.a, orbit.ctx, orbit.cam, orbit.dir);
     let mut scaled = Ao::new(&ctx.device, scaled_options(a, base))?;
-    let mut rungs = Vec::with_capacity(JOINT_RUNGS.len());
-    for preset in JOINT_RUNGS {
-        rungs.push(ao_at(
-            ctx,
-            base,
-            a.march_exponent,
-            Resolution::Full,
-            preset,
-        )?);
+    let ladder = joint_rungs(base.estimator);
+    let mut rungs = Vec::with_capacity(ladder.len());
+    for rung in &ladder {
+        rungs.push(Ao::new(&ctx.device, rung.options(base, a.march_exponent))?);
     }
     // Everything compiled and its textures created on the first view, then timed there
     // (median of three interleaved runs): the rungs' costs and the scaled AO's cost over
@@ -384,7 +486,7 @@ pub fn orbit_joint(
             .collect::<Vec<_>>(),
     );
     let nominal = &medians[FIT_SCALES.len()..];
-    let name = |k: usize| format!("full {}", preset_name(JOINT_RUNGS[k]));
+    let name = |k: usize| format!("full {}", ladder[k].name());
     // Rungs undercut by a dearer one are skipped, as in the ladder.
     let kept = undominated(nominal);
     let costs: Vec<f64> = kept.iter().map(|&k| nominal[k]).collect();
@@ -418,6 +520,7 @@ pub fn orbit_joint(
         })?;
     let n = a.frames;
     let mut frames: Vec<(Knob, f64)> = Vec::with_capacity(n as usize);
+    let mut floor = Floor::default();
     for k in 0..n {
         let knob = control.knob();
         let (which, scale) = match knob {
@@ -431,6 +534,8 @@ pub fn orbit_joint(
             Some(r) => (&mut rungs[r], 1 + r),
         };
         let ms = orbit.frame(k, ao, id, scale, params)?;
+        let cheapest = which.is_none() && scale <= obscura::MIN_SCALE + 1e-4;
+        floor.frame(cheapest.then_some("scale 0.25"), ms, budget_ms);
         control.update(ms);
         frames.push((knob, ms));
         let label = match which {
@@ -448,8 +553,15 @@ pub fn orbit_joint(
         .iter()
         .filter(|f| matches!(f.0, Knob::Level(_)))
         .count();
+    // A budget above the dearest rung's cost cannot be filled: those frames run the best
+    // setting there is.
+    let dearest = frames
+        .iter()
+        .filter(|f| f.0 == Knob::Level(kept.len() - 1) && f.1 < 0.85 * budget_ms)
+        .count();
     eprintln!(
-        "budget: {}; {on_rungs} frames at full resolution",
+        "budget: {}; {on_rungs} frames at full resolution, {dearest} of them under it at the \
+         dearest rung",
         summary(&times, budget_ms)
     );
     let mut csv = String::from("frame,resolution,scale,preset,ms\n");
@@ -473,11 +585,7 @@ pub fn orbit_joint(
                 "{k},scaled,{s:.4},{},{ms:.4}",
                 base_preset(scaled.options())
             ),
-            Knob::Level(l) => writeln!(
-                csv,
-                "{k},full,1,{},{ms:.4}",
-                preset_name(JOINT_RUNGS[kept[*l]])
-            ),
+            Knob::Level(l) => writeln!(csv, "{k},full,1,{},{ms:.4}", ladder[kept[*l]].name()),
         };
     }
     // The right axis: the scale from 0.25 to the top over the lower half, the kept rungs

@@ -10,6 +10,7 @@
 //! `obscura::depth_map`.
 
 use super::args::{options, params, NormalsFrame, RenderArgs};
+use super::prepared::write_prepared;
 use super::record::record_timed;
 use crate::readback::read_bent_normals;
 use anyhow::{bail, Context, Result};
@@ -389,6 +390,7 @@ pub fn run(a: &RenderArgs, depth_path: &Path, intrinsics: &Path) -> Result<()> {
     let cropped = framed.crop(&out)?;
     crate::output::save_ao(&a.out, &cropped, map.width, map.height, a.bits)?;
     eprintln!("wrote {}", a.out.display());
+    write_prepared(a, (&ctx, &ao), (&input, &params), (pw, ph), Some(&framed))?;
     if let Some(path) = &a.bent_normals_out {
         let (bent, w, h) = read_bent_normals(&ctx, &ao)?;
         // Cropped like the AO where they share its size; below full resolution as they are

@@ -6,6 +6,7 @@ mod args;
 mod budget;
 mod depth_map;
 mod orbit;
+mod prepared;
 mod record;
 mod scene;
 

@@ -86,8 +86,58 @@ pub fn normals_warning(away: f32) -> Option<String> {
     })
 }
 
-/// The depth noise model a front end names for `framed` (the CLI's `--depth-noise`, the
-/// Python package's `depth_noise`), and a description for the user:
+/// A depth noise model as a front end names it (the CLI's `--depth-noise`, the Python
+/// package's `depth_noise`), checked before any map is read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NoiseSpec {
+    /// Estimated from each map ([`Framed::estimate_noise`]).
+    Auto,
+    /// Clean depth.
+    None,
+    /// σ = 1.5 mm·z² in metres (a structured-light sensor), plus an integer map's terraces.
+    Kinect,
+    /// σ = C + L·z + Q·z² in scene units, plus an integer map's terraces.
+    Given([f32; 3]),
+}
+
+impl NoiseSpec {
+    /// `auto`, `none`, `kinect` or `C,L,Q` (three finite numbers ≥ 0).
+    pub fn parse(spec: &str) -> Result<Self> {
+        Ok(match spec.trim() {
+            "auto" => NoiseSpec::Auto,
+            "none" => NoiseSpec::None,
+            "kinect" => NoiseSpec::Kinect,
+            other => {
+                let expected = "expected auto, none, kinect or C,L,Q (σ = C + L·z + Q·z²)";
+                let v: Vec<f32> = other
+                    .split(',')
+                    .map(|t| t.trim().parse::<f32>())
+                    .collect::<std::result::Result<_, _>>()
+                    .map_err(|_| invalid(format!("depth noise `{other}`: {expected}")))?;
+                let [constant, linear, quadratic] = v[..] else {
+                    return Err(invalid(format!(
+                        "depth noise `{other}` needs 3 numbers C,L,Q (σ = C + L·z + Q·z²), got {}",
+                        v.len()
+                    )));
+                };
+                crate::AoParams {
+                    depth_noise: DepthNoise {
+                        constant,
+                        linear,
+                        quadratic,
+                        ..DepthNoise::NONE
+                    },
+                    ..Default::default()
+                }
+                .validate()?;
+                NoiseSpec::Given([constant, linear, quadratic])
+            }
+        })
+    }
+}
+
+/// The depth noise model a front end names for `framed` ([`NoiseSpec::parse`]), and a
+/// description for the user:
 /// - `auto`: estimated from the map ([`Framed::estimate_noise`]);
 /// - `none`: clean depth;
 /// - `kinect`: σ = 1.5 mm·z² in metres (a structured-light sensor), plus the encoding's
@@ -95,8 +145,8 @@ pub fn normals_warning(away: f32) -> Option<String> {
 /// - `C,L,Q`: σ = C + L·z + Q·z² in scene units, plus the terraces for an integer map.
 pub fn noise_model(spec: &str, framed: &Framed) -> Result<(DepthNoise, String)> {
     let step = framed.quantum.unwrap_or(0.0);
-    let model = match spec.trim() {
-        "auto" => {
+    let model = match NoiseSpec::parse(spec)? {
+        NoiseSpec::Auto => {
             let e = framed.estimate_noise()?;
             let found = if e.model.is_none() {
                 format!(
@@ -113,41 +163,21 @@ pub fn noise_model(spec: &str, framed: &Framed) -> Result<(DepthNoise, String)> 
             };
             return Ok((e.model, found));
         }
-        "none" => DepthNoise::NONE,
-        "kinect" => DepthNoise {
+        NoiseSpec::None => DepthNoise::NONE,
+        NoiseSpec::Kinect => DepthNoise {
             quadratic: 0.0015,
             // An integer encoding's quantisation: σ = step / √12 and its terraces.
             constant: step / 12f32.sqrt(),
             step_constant: step,
             ..DepthNoise::NONE
         },
-        other => {
-            let expected = "expected auto, none, kinect or C,L,Q (σ = C + L·z + Q·z²)";
-            let v: Vec<f32> = other
-                .split(',')
-                .map(|t| t.trim().parse::<f32>())
-                .collect::<std::result::Result<_, _>>()
-                .map_err(|_| invalid(format!("depth noise `{other}`: {expected}")))?;
-            let [constant, linear, quadratic] = v[..] else {
-                return Err(invalid(format!(
-                    "depth noise `{other}` needs 3 numbers C,L,Q (σ = C + L·z + Q·z²), got {}",
-                    v.len()
-                )));
-            };
-            let model = DepthNoise {
-                constant,
-                linear,
-                quadratic,
-                step_constant: step,
-                step_quadratic: 0.0,
-            };
-            crate::AoParams {
-                depth_noise: model,
-                ..Default::default()
-            }
-            .validate()?;
-            model
-        }
+        NoiseSpec::Given([constant, linear, quadratic]) => DepthNoise {
+            constant,
+            linear,
+            quadratic,
+            step_constant: step,
+            step_quadratic: 0.0,
+        },
     };
     Ok((model, format!("{} ({spec})", describe_noise(&model))))
 }

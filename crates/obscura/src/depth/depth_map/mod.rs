@@ -20,7 +20,7 @@ mod front_end;
 mod renderer;
 
 pub use front_end::{
-    describe_noise, noise_model, normals_warning, npy_f32, view_normals, NormalsFrame,
+    describe_noise, noise_model, normals_warning, npy_f32, view_normals, NoiseSpec, NormalsFrame,
 };
 #[cfg(not(target_arch = "wasm32"))]
 pub use renderer::Renderer;
@@ -65,17 +65,32 @@ pub struct Intrinsics {
 }
 
 impl Intrinsics {
-    /// Checks the focal lengths (finite, > 0, and a field of view across the image within
-    /// [`FOV_RANGE_DEG`]), the size (1..=[`MAX_SIDE`]) and that the principal point lies in
-    /// the image (with a pixel of slack).
-    pub fn validate(&self) -> Result<()> {
-        check_size(self.width, self.height)?;
-        for (k, x, side) in [("fx", self.fx, self.width), ("fy", self.fy, self.height)] {
+    /// The checks that need no image size: finite focal lengths > 0 and a finite principal
+    /// point. A batch whose maps' sizes are not known yet runs these before it starts;
+    /// [`Intrinsics::validate`] checks the rest per map.
+    pub fn validate_unsized(&self) -> Result<()> {
+        for (k, x) in [("fx", self.fx), ("fy", self.fy)] {
             if !(x.is_finite() && x > 0.0) {
                 return Err(invalid(format!(
                     "intrinsics `{k}` = {x} must be finite and > 0"
                 )));
             }
+        }
+        for (k, x) in [("cx", self.cx), ("cy", self.cy)] {
+            if !x.is_finite() {
+                return Err(invalid(format!("intrinsics `{k}` = {x} must be finite")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the focal lengths (finite, > 0, and a field of view across the image within
+    /// [`FOV_RANGE_DEG`]), the size (1..=[`MAX_SIDE`]) and that the principal point lies in
+    /// the image (with a pixel of slack).
+    pub fn validate(&self) -> Result<()> {
+        check_size(self.width, self.height)?;
+        self.validate_unsized()?;
+        for (k, x, side) in [("fx", self.fx, self.width), ("fy", self.fy, self.height)] {
             // Field of view 2 atan(side / 2f), so f = side / (2 tan(fov / 2)).
             let focal = |fov: f32| side as f32 / (2.0 * (fov.to_radians() / 2.0).tan());
             let (lo, hi) = (focal(FOV_RANGE_DEG.1), focal(FOV_RANGE_DEG.0));
