@@ -12,6 +12,7 @@ from this script.
 
 import argparse
 import pathlib
+import sys
 import time
 
 import numpy as np
@@ -21,6 +22,12 @@ import obscura
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 REDWOOD = ROOT.parent / "shared" / "depth" / "redwood" / "redwood_depth_mm.png"
+
+
+def progress(phase, done, total):
+    """One line on stderr, rewritten as a phase advances (the results go to stdout)."""
+    sys.stderr.write(f"\r  {phase}: {done}/{total}" + ("\n" if done == total else ""))
+    sys.stderr.flush()
 
 
 def main():
@@ -44,10 +51,12 @@ def main():
             renderer.render(depth, **k, depth_noise=noise)
         times = []
         start = time.perf_counter()
-        for _ in range(args.maps):
+        for i in range(args.maps):
             t = time.perf_counter()
             renderer.render(depth, **k, depth_noise=noise)
             times.append(time.perf_counter() - t)
+            if (i + 1) % 10 == 0 or i + 1 == args.maps:
+                progress(f"depth_noise={noise!r}", i + 1, args.maps)
         total = time.perf_counter() - start
         print(
             f"depth_noise={noise!r}: {args.maps} maps of {w}x{h} in {total:.2f} s, "
@@ -71,11 +80,12 @@ def batch(depth, k, maps, rounds=3):
         "render_many": lambda: r.render_many(stack, **k),
     }
     rates = {name: [] for name in ways}
-    for _ in range(rounds):
-        for name, run in ways.items():
+    for i in range(rounds):
+        for j, (name, run) in enumerate(ways.items()):
             start = time.perf_counter()
             run()
             rates[name].append(maps / (time.perf_counter() - start))
+            progress("batch rounds", i * len(ways) + j + 1, rounds * len(ways))
     for name, rate in rates.items():
         print(f"{name}: {np.median(rate):.2f} maps/s (median of {rounds})")
 
@@ -103,11 +113,12 @@ def threads(depth, k, maps, n, rounds=3):
     }
     rates = {name: [] for name in ways}
     with ThreadPoolExecutor(n) as pool:
-        for _ in range(rounds):
-            for name, run in ways.items():
+        for i in range(rounds):
+            for j, (name, run) in enumerate(ways.items()):
                 start = time.perf_counter()
                 run(pool)
                 rates[name].append(maps / (time.perf_counter() - start))
+                progress("thread rounds", i * len(ways) + j + 1, rounds * len(ways))
     for name, r in rates.items():
         print(f"{name}: {np.median(r):.2f} maps/s (median of {rounds})")
 

@@ -15,7 +15,30 @@ DepthNoise = Union[str, Tuple[float, float, float], Sequence[float], None]
 def save_ao(path: Union[str, "os.PathLike[str]"], ao: npt.NDArray[np.float32]) -> None:
     """Writes a 2-D float32 AO array by extension, as `obscura render --out`: .npy float32,
     .exr float32, .png 16-bit grey. Atomic (written beside, then renamed). ValueError for
-    another array or extension, OSError when the write fails."""
+    another array or extension, an empty array, or a value outside [0, 1] (NaN and
+    infinities included); OSError when the write fails."""
+
+def check_settings(
+    *,
+    fx: float,
+    fy: float,
+    cx: float,
+    cy: float,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    radius: Optional[float] = None,
+    depth_scale: Optional[float] = None,
+    depth_noise: DepthNoise = None,
+    thickness: Optional[float] = None,
+    estimator: str = "gtao",
+    preset: str = "high",
+    resolution: str = "full",
+    denoise: str = "spatial",
+    frames: int = 1,
+) -> None:
+    """Checks settings many maps will share before any map is read or device opened: the
+    renderer's options, the intrinsics (all of them with the maps' width and height, else
+    what needs no size) and the shared parameters. ValueError with `render`'s message."""
 
 class DeviceError(RuntimeError):
     """No usable GPU or software adapter, or the device failed (out of memory, lost)."""

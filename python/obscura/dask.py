@@ -74,10 +74,20 @@ def load_depth(path: PathLike) -> np.ndarray:
     """A depth file as the array `Renderer.render` takes: .npy as saved, a PNG as uint16."""
     path = pathlib.Path(path)
     if path.suffix.lower() == ".npy":
-        return np.load(path, allow_pickle=False)
-    from PIL import Image
+        with open(path, "rb") as f:
+            if f.read(6) != b"\x93NUMPY":
+                raise ValueError(f"{path.name}: not a NumPy .npy file (no .npy header)")
+        try:
+            return np.load(path, allow_pickle=False)
+        except ValueError as e:  # a header numpy cannot read, or object arrays
+            raise ValueError(f"{path.name}: not a depth array .npy ({e})") from None
+    from PIL import Image, UnidentifiedImageError
 
-    with Image.open(path) as im:
+    try:
+        im = Image.open(path)
+    except UnidentifiedImageError:
+        raise ValueError(f"{path.name}: not a PNG image") from None
+    with im:
         if im.mode not in ("I;16", "I;16B", "I;16L", "I"):
             raise ValueError(f"a depth PNG is 16-bit single-channel, not mode {im.mode}")
         return np.array(im).astype(np.uint16)
@@ -88,10 +98,37 @@ def _intrinsics(intrinsics: Union[PathLike, Dict[str, float]]) -> Dict[str, floa
         k = dict(intrinsics)
     else:
         k = json.loads(pathlib.Path(intrinsics).read_text())
+    if not isinstance(k, dict):
+        raise ValueError("intrinsics: expected an object {fx, fy, cx, cy[, width, height, depth_scale]}")
     missing = [key for key in ("fx", "fy", "cx", "cy") if key not in k]
     if missing:
         raise ValueError(f"intrinsics lack {', '.join(missing)}")
+    for key, kind in [("fx", float), ("fy", float), ("cx", float), ("cy", float),
+                      ("width", int), ("height", int), ("depth_scale", float)]:
+        if key in k and (isinstance(k[key], bool) or not isinstance(k[key], (int, float))
+                         or kind is int and not float(k[key]).is_integer()):
+            raise ValueError(f"intrinsics `{key}` = {k[key]!r}: expected a number"
+                             + (" of pixels" if kind is int else ""))
+    if ("width" in k) != ("height" in k):
+        raise ValueError("intrinsics give one of width and height; give both or neither")
     return k
+
+
+_RENDERER_OPTIONS = ("estimator", "preset", "resolution", "denoise", "frames")
+
+
+def _check(k: Dict[str, float], radius, depth_noise, thickness, options: Dict[str, Any]) -> None:
+    """Every setting the maps share, checked before a folder is made or a cluster started
+    (`obscura.check_settings`: `render`'s messages)."""
+    unknown = sorted(set(options) - set(_RENDERER_OPTIONS))
+    if unknown:
+        raise TypeError(f"ao_files: unknown renderer option(s) {', '.join(unknown)}; "
+                        f"Renderer takes {', '.join(_RENDERER_OPTIONS)}")
+    size = {"width": int(k["width"]), "height": int(k["height"])} if "width" in k else {}
+    obscura._obscura.check_settings(
+        fx=float(k["fx"]), fy=float(k["fy"]), cx=float(k["cx"]), cy=float(k["cy"]), **size,
+        radius=radius, depth_scale=k.get("depth_scale"), depth_noise=depth_noise,
+        thickness=thickness, **options)
 
 
 def _render_one(source: str, target: str, k: Dict[str, float], radius: Optional[float],
@@ -125,7 +162,10 @@ def _sources(files: Union[PathLike, Sequence[PathLike]]) -> List[pathlib.Path]:
         return found
     if isinstance(files, (str, os.PathLike)):
         raise ValueError(f"{files}: not a folder (give a folder or a list of files)")
-    return [pathlib.Path(f) for f in files]
+    found = [pathlib.Path(f) for f in files]
+    if not found:
+        raise ValueError("no depth files given")
+    return found
 
 
 def _progress(done: int, total: int, started: float, stream) -> None:
@@ -170,16 +210,37 @@ def ao_files(
     Outputs that exist are complete (written atomically) and are skipped. Each map that
     fails is in `Report.failed` with its error; the others are written.
     """
+    # Everything the maps share is checked before a folder is made or a cluster started.
     if output not in OUTPUT_SUFFIXES:
         raise ValueError(f"output {output!r}: expected one of {', '.join(OUTPUT_SUFFIXES)}")
+    if scheduler is None and (isinstance(workers, bool) or not isinstance(workers, int)
+                              or workers < 1):
+        raise ValueError(f"workers = {workers!r}: a LocalCluster needs an integer >= 1")
     k = _intrinsics(intrinsics)
+    _check(k, radius, depth_noise, thickness, renderer_options)
     sources = _sources(files)
     out = pathlib.Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a folder")
+    made = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
     targets = [out / f"{s.stem}_ao{output}" for s in sources]
     todo = [(str(s), str(t)) for s, t in zip(sources, targets) if not t.exists()]
     skipped = [str(s) for s, t in zip(sources, targets) if t.exists()]
 
+    try:
+        return _run(todo, skipped, k, scheduler, workers, processes, radius, depth_noise,
+                    thickness, progress, renderer_options)
+    except BaseException:
+        # Nothing written: leave no empty folder behind (a failed cluster, an interrupt).
+        if made and not any(out.iterdir()):
+            out.rmdir()
+        raise
+
+
+def _run(todo, skipped, k, scheduler, workers, processes, radius, depth_noise, thickness,
+         progress, renderer_options) -> Report:
+    """`ao_files` once its settings are checked and its folder exists."""
     begun = time.perf_counter()
     written: List[str] = []
     failed: List[Tuple[str, str]] = []

@@ -80,6 +80,76 @@ fn options(
     Ok(o)
 }
 
+/// Whether a depth dtype is accepted (float16/32/64 or uint16), and whether it holds
+/// integers (stored units, times the depth scale).
+fn check_dtype(dtype: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    let size: usize = dtype.getattr("itemsize")?.extract()?;
+    match (kind.as_str(), size) {
+        ("f", 2 | 4 | 8) => Ok(false),
+        ("u", 2) => Ok(true),
+        _ => Err(value_error(format!(
+            "depth dtype {} is not supported (float64, float32, float16 or uint16)",
+            dtype.str()?
+        ))),
+    }
+}
+
+/// The arguments every map of a call shares: radius, depth scale, noise and thickness.
+type Shared<'a, 'py> = (
+    Option<&'a Bound<'py, PyAny>>,
+    Option<f32>,
+    Option<&'a Bound<'py, PyAny>>,
+    Option<f32>,
+);
+
+/// An empty `render_many` checks what it was given as a full one would before its first
+/// map: the stack's dtype, each intrinsic given as one number (all four, with the stack's
+/// size when it has one, as `Intrinsics::validate`), and the shared parameters.
+fn check_empty(
+    maps: &Bound<'_, PyAny>,
+    stacked: bool,
+    intrinsics: [&Bound<'_, PyAny>; 4],
+    (radius, depth_scale, depth_noise, thickness): Shared<'_, '_>,
+) -> PyResult<()> {
+    let size = if stacked {
+        check_dtype(&maps.getattr("dtype")?)?;
+        let shape: Vec<usize> = maps.getattr("shape")?.extract()?;
+        (shape[1] > 0 && shape[2] > 0).then(|| (shape[2] as u32, shape[1] as u32))
+    } else {
+        None
+    };
+    let mut k = [None; 4];
+    for (i, (name, v)) in ["fx", "fy", "cx", "cy"]
+        .into_iter()
+        .zip(intrinsics)
+        .enumerate()
+    {
+        k[i] = v.extract::<f32>().ok();
+        if k[i].is_none() {
+            each(name, v, 0)?; // a sequence: it must be empty too
+        }
+    }
+    let at = |i: usize, fallback: f32| k[i].unwrap_or(fallback);
+    // The numbers given, each against its own rule (a sequence's place takes a harmless
+    // stand-in); all four given: the whole check.
+    let size = if k.iter().all(Option::is_some) {
+        size
+    } else {
+        None
+    };
+    check_intrinsics((at(0, 1.0), at(1, 1.0), at(2, 0.0), at(3, 0.0)), size)?;
+    let radius = match radius.map(|r| (r, r.extract::<f32>())) {
+        Some((_, Ok(x))) => Some(x),
+        Some((r, Err(_))) => {
+            each("radius", r, 0)?;
+            None
+        }
+        None => None,
+    };
+    check_shared(depth_scale, depth_noise, thickness, radius).map(|_| ())
+}
+
 /// A 2-D numpy array of an accepted dtype as row-major f32 values, its size, and whether
 /// it was stored as integers.
 fn depth_values(py: Python<'_>, depth: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Vec<f32>, bool)> {
@@ -96,19 +166,7 @@ fn depth_values(py: Python<'_>, depth: &Bound<'_, PyAny>) -> PyResult<(u32, u32,
             "depth has shape {shape:?}; a depth map is 2-D (height, width)"
         )));
     };
-    let dtype = depth.getattr("dtype")?;
-    let kind: String = dtype.getattr("kind")?.extract()?;
-    let size: usize = dtype.getattr("itemsize")?.extract()?;
-    let integer = match (kind.as_str(), size) {
-        ("f", 2 | 4 | 8) => false,
-        ("u", 2) => true,
-        _ => {
-            return Err(value_error(format!(
-                "depth dtype {} is not supported (float64, float32, float16 or uint16)",
-                dtype.str()?
-            )))
-        }
-    };
+    let integer = check_dtype(&depth.getattr("dtype")?)?;
     // Any order or strides: numpy makes a C-ordered float32 copy (exact for uint16).
     let c = np.call_method1("ascontiguousarray", (depth, "float32"))?;
     let a: PyReadonlyArray2<f32> = c.extract()?;
@@ -214,6 +272,53 @@ struct Job {
     params: AoParams,
 }
 
+/// The parameters every map of a call shares, checked before any map is read: the depth
+/// scale, the noise model's name or numbers, the thickness prior and a given radius.
+fn check_shared(
+    depth_scale: Option<f32>,
+    depth_noise: Option<&Bound<'_, PyAny>>,
+    thickness: Option<f32>,
+    radius: Option<f32>,
+) -> PyResult<String> {
+    if let Some(s) = depth_scale {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(value_error(format!(
+                "depth_scale {s} must be finite and > 0"
+            )));
+        }
+    }
+    let noise = noise_spec(depth_noise)?;
+    depth_map::NoiseSpec::parse(&noise).map_err(to_py)?;
+    let params = AoParams {
+        thickness: thickness.unwrap_or(obscura::DEFAULT_THICKNESS),
+        radius: radius.unwrap_or(1.0),
+        ..Default::default()
+    };
+    params.validate().map_err(to_py)?;
+    Ok(noise)
+}
+
+/// Intrinsics checked with the maps' size when it is known, else what needs no size.
+fn check_intrinsics(
+    (fx, fy, cx, cy): (f32, f32, f32, f32),
+    size: Option<(u32, u32)>,
+) -> PyResult<()> {
+    let (width, height) = size.unwrap_or((1, 1));
+    let k = Intrinsics {
+        fx,
+        fy,
+        cx,
+        cy,
+        width,
+        height,
+    };
+    match size {
+        Some(_) => k.validate(),
+        None => k.validate_unsized(),
+    }
+    .map_err(to_py)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn raw(
     py: Python<'_>,
@@ -227,13 +332,7 @@ fn raw(
     thickness: Option<f32>,
 ) -> PyResult<Raw> {
     let (width, height, values, integer) = depth_values(py, depth)?;
-    if let Some(s) = depth_scale {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(value_error(format!(
-                "depth_scale {s} must be finite and > 0"
-            )));
-        }
-    }
+    let noise = check_shared(depth_scale, depth_noise, thickness, radius)?;
     let normals = match normals {
         Some(n) => Some(normal_values(py, n, width, height, normals_frame)?),
         None => None,
@@ -247,7 +346,7 @@ fn raw(
         normals,
         radius,
         depth_scale,
-        noise: noise_spec(depth_noise)?,
+        noise,
         thickness,
     })
 }
@@ -437,6 +536,10 @@ impl Renderer {
                 .collect::<PyResult<_>>()?
         };
         let n = items.len();
+        if n == 0 {
+            let shared = (radius, depth_scale, depth_noise, thickness);
+            check_empty(maps, stacked, [fx, fy, cx, cy], shared)?;
+        }
         let [fx, fy, cx, cy] =
             [("fx", fx), ("fy", fy), ("cx", cx), ("cy", cy)].map(|(name, v)| each(name, v, n));
         let (fx, fy, cx, cy) = (fx?, fy?, cx?, cy?);
@@ -643,9 +746,41 @@ fn ambient_occlusion<'py>(
     Ok(PyArray1::from_vec(py, ao).reshape([h, w])?.into_any())
 }
 
+/// Checks settings that many maps will share, before any map is read or device opened:
+/// the renderer's options (as `Renderer`), the intrinsics (with the maps' `width` and
+/// `height` when known; else what needs no size), and the shared `render` parameters.
+/// `obscura.dask.ao_files` calls it before it starts a cluster.
+///
+/// Raises:
+///     ValueError: the first bad setting, with the message `render` would give.
+#[pyfunction]
+#[pyo3(signature = (*, fx, fy, cx, cy, width=None, height=None, radius=None, depth_scale=None, depth_noise=None, thickness=None, estimator="gtao", preset="high", resolution="full", denoise="spatial", frames=1))]
+#[allow(clippy::too_many_arguments)]
+fn check_settings(
+    fx: f32,
+    fy: f32,
+    cx: f32,
+    cy: f32,
+    width: Option<u32>,
+    height: Option<u32>,
+    radius: Option<f32>,
+    depth_scale: Option<f32>,
+    depth_noise: Option<&Bound<'_, PyAny>>,
+    thickness: Option<f32>,
+    estimator: &str,
+    preset: &str,
+    resolution: &str,
+    denoise: &str,
+    frames: i64,
+) -> PyResult<()> {
+    options(estimator, preset, resolution, denoise, frames)?;
+    check_intrinsics((fx, fy, cx, cy), width.zip(height))?;
+    check_shared(depth_scale, depth_noise, thickness, radius).map(|_| ())
+}
+
 /// Writes an AO image (a 2-D float array, 1 = unoccluded) to `path` by its extension, as
 /// `obscura render --out` does: `.npy` float32, `.exr` float32 (the value in R, G and B),
-/// `.png` 16-bit grey (round(ao · 65535), clamped to [0, 1]). Atomic: the file is written
+/// `.png` 16-bit grey (round(ao · 65535)). Values must lie in [0, 1]. Atomic: the file is written
 /// beside its name and renamed, so a file that exists is complete.
 ///
 /// Raises:
@@ -657,8 +792,25 @@ fn save_ao(py: Python<'_>, path: std::path::PathBuf, ao: &Bound<'_, PyAny>) -> P
         .map_err(|_| value_error("ao must be a 2-D float32 numpy array".into()))?;
     let view = a.as_array();
     let (h, w) = view.dim();
+    if h == 0 || w == 0 {
+        return Err(value_error(format!(
+            "ao has shape ({h}, {w}); an AO image has at least one pixel"
+        )));
+    }
     // Row-major whatever the array's order or strides.
     let values = view.iter().copied().collect::<Vec<f32>>();
+    // AO is a fraction: NaN, infinities or values outside [0, 1] are a bug upstream, and
+    // a PNG would hide them (clamped, NaN as 0: fully occluded).
+    if let Some(i) = values.iter().position(|v| !(0.0..=1.0).contains(v)) {
+        let bad = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
+        return Err(value_error(format!(
+            "ao holds {bad} value(s) outside [0, 1] (the first, {}, at row {}, column {}); \
+             AO is 1 where unoccluded and 0 where fully occluded",
+            values[i],
+            i / w,
+            i % w
+        )));
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -697,7 +849,7 @@ fn save_ao(py: Python<'_>, path: std::path::PathBuf, ao: &Bound<'_, PyAny>) -> P
             _ => {
                 let grey: Vec<u8> = values
                     .iter()
-                    .flat_map(|v| ((v.clamp(0.0, 1.0) * 65535.0).round() as u16).to_ne_bytes())
+                    .flat_map(|v| ((v * 65535.0).round() as u16).to_ne_bytes())
                     .collect();
                 encoded(
                     &grey,
@@ -728,6 +880,7 @@ fn obscura_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add_function(wrap_pyfunction!(ambient_occlusion, m)?)?;
     m.add_function(wrap_pyfunction!(save_ao, m)?)?;
+    m.add_function(wrap_pyfunction!(check_settings, m)?)?;
     m.add_class::<Renderer>()?;
     m.add("DeviceError", m.py().get_type::<DeviceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

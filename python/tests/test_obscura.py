@@ -253,33 +253,39 @@ def test_no_adapter_is_a_device_error():
     assert issubclass(obscura.DeviceError, RuntimeError)
 
 
-def spin_while(thread):
-    """Turns of a busy loop in this thread while `thread` runs, and the seconds it ran."""
-    import time
-
-    spins, start = 0, time.perf_counter()
-    thread.start()
-    while thread.is_alive():
-        spins += 1
-    thread.join()
-    return spins, time.perf_counter() - start
-
-
 def test_the_gil_is_released_while_the_device_works(renderer):
+    """Whether another thread runs during a render, decided by order, not by rates: with
+    forced GIL switches turned off, a waiting thread gets the GIL only when the rendering
+    thread lets it go. A render that releases it lets the probe run while the map is on
+    the device; one that held it would let the probe run only after it returned."""
+    import sys
     import threading
-    import time
 
     depth = png16(REDWOOD)
-    # The busy loop's rate beside a thread that holds no GIL (sleeping)...
-    free, free_s = spin_while(threading.Thread(target=time.sleep, args=(0.3,)))
-    # ...and beside three renders (about a second here). A render that held the GIL would
-    # let this thread run only between the worker's bytecodes (a switch interval each).
-    busy, busy_s = spin_while(
-        threading.Thread(target=lambda: [renderer.render(depth, **REDWOOD_K) for _ in range(3)])
-    )
-    # Measured: 0.9 of the free rate beside renders, 0.007 beside a C call that holds the
-    # GIL (sum(range(...))); lavapipe's own threads share the cores, hence the margin.
-    assert busy / busy_s > 0.1 * free / free_s, (busy / busy_s, free / free_s)
+    started, done = threading.Event(), threading.Event()
+    seen = []
+
+    def render():
+        started.set()
+        renderer.render(depth, **REDWOOD_K)
+        done.set()
+
+    def probe():
+        started.wait()
+        seen.append(done.is_set())
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000.0)
+    try:
+        threads = [threading.Thread(target=render), threading.Thread(target=probe)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(120)
+    finally:
+        sys.setswitchinterval(interval)
+    assert done.is_set(), "the render finished"
+    assert seen == [False], "the probe ran only after the render returned: the GIL was held"
 
 
 def rss_bytes():
@@ -389,6 +395,115 @@ def test_render_many_names_the_bad_map(renderer):
             renderer.render_many(maps, **kw)
 
 
+def test_an_empty_batch_checks_what_it_was_given(renderer):
+    """No map to check per map: the intrinsics, the stack's dtype and the shared
+    parameters are checked all the same, as for the first map of a full batch."""
+    k = dict(fx=16.0, fy=16.0, cx=7.5, cy=7.5)
+    stack = np.zeros((0, 16, 16), np.float32)
+    cases = [
+        (([], dict(k, fx=0.0)), "fx` = 0"),
+        (([], dict(k, cy=float("nan"))), "cy` = NaN"),
+        ((stack, dict(k, fx=0.0)), "fx` = 0"),
+        ((stack, dict(k, fx=1e30)), "field of view"),
+        ((np.zeros((0, 16, 16), np.complex64), k), "dtype complex64"),
+        (([], dict(k, depth_scale=-1.0)), "depth_scale"),
+        (([], dict(k, depth_noise="loud")), "depth noise `loud`"),
+        (([], dict(k, thickness=0.0)), "thickness"),
+        (([], dict(k, radius=float("inf"))), "radius"),
+        (([], dict(k, fx=[16.0])), "fx: 1 values for 0 maps"),
+    ]
+    for (maps, kw), says in cases:
+        with pytest.raises(ValueError, match=says):
+            renderer.render_many(maps, **kw)
+    # What is well formed stays an empty result.
+    assert renderer.render_many([], **k) == []
+    assert renderer.render_many(stack, **k).shape == (0, 16, 16)
+
+
+def within(seconds, fn):
+    """fn() on a daemon thread: its result or exception, or a failure after `seconds`
+    instead of a hang."""
+    import threading
+
+    box = {}
+
+    def run():
+        try:
+            box["value"] = fn()
+        except BaseException as e:  # noqa: B902 - handed back to the caller
+            box["error"] = e
+
+    t = threading.Thread(target=run, daemon=True)
+    t.start()
+    t.join(seconds)
+    assert not t.is_alive(), f"still running after {seconds} s"
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
+
+
+def test_ao_files_refuses_bad_settings_before_it_starts(tmp_path):
+    """Every shared setting is checked before a folder is made or a cluster started:
+    a ValueError (TypeError for an unknown option) within seconds, nothing left behind;
+    workers=0 used to wait forever for a worker."""
+    pytest.importorskip("distributed")
+    from obscura.dask import ao_files
+
+    src = tmp_path / "depth"
+    src.mkdir()
+    np.save(src / "a.npy", plane(16))
+    k = dict(fx=16.0, fy=16.0, cx=7.5, cy=7.5)
+    cases = [
+        (dict(workers=0), ValueError, "workers = 0"),
+        (dict(workers=-1), ValueError, "workers = -1"),
+        (dict(workers=1.5), ValueError, "workers = 1.5"),
+        (dict(intrinsics=dict(k, fx=0.0)), ValueError, "fx` = 0"),
+        (dict(intrinsics=dict(k, fx="wide")), ValueError, "fx` = 'wide'"),
+        (dict(intrinsics=dict(k, width=16)), ValueError, "width and height"),
+        (dict(intrinsics=dict(k, width=16, height=16, fx=1e30)), ValueError, "field of view"),
+        (dict(estimator="nope"), ValueError, "estimator"),
+        (dict(preset="max"), ValueError, "preset `max`"),
+        (dict(frames=0), ValueError, "frames = 0"),
+        (dict(depth_noise="loud"), ValueError, "depth noise `loud`"),
+        (dict(thickness=-1.0), ValueError, "thickness"),
+        (dict(radius=float("nan")), ValueError, "radius"),
+        (dict(output=".tiff"), ValueError, "output '.tiff'"),
+        (dict(files=[]), ValueError, "no depth files"),
+        (dict(files=src / "a.npy"), ValueError, "not a folder"),
+        (dict(colour="red"), TypeError, "unknown renderer option"),
+    ]
+    for kw, kind, says in cases:
+        out = tmp_path / "out"
+        args = dict(files=src, out_dir=out, intrinsics=k, workers=1, progress=False)
+        args.update(kw)
+        files, out_dir = args.pop("files"), args.pop("out_dir")
+        with pytest.raises(kind, match=says):
+            within(60, lambda: ao_files(files, out_dir, **args))
+        assert not out.exists(), kw
+
+
+def test_a_file_that_is_not_a_depth_map_is_reported_plainly(tmp_path):
+    """Random bytes named .npy or .png fail that file with a plain message (not numpy's
+    about pickled data), and the others are written."""
+    pytest.importorskip("distributed")
+    from obscura.dask import ao_files, load_depth
+
+    src = tmp_path / "depth"
+    src.mkdir()
+    np.save(src / "good.npy", plane(16))
+    (src / "noise.npy").write_bytes(bytes(range(256)) * 4)
+    (src / "noise.png").write_bytes(bytes(range(256)) * 4)
+    with pytest.raises(ValueError, match="noise.npy: not a NumPy .npy file"):
+        load_depth(src / "noise.npy")
+    k = dict(fx=16.0, fy=16.0, cx=7.5, cy=7.5)
+    report = within(120, lambda: ao_files(src, tmp_path / "ao", intrinsics=k, workers=1,
+                                          progress=False))
+    assert [pathlib.Path(p).name for p in report.written] == ["good.npy"]
+    failed = dict((pathlib.Path(p).name, e) for p, e in report.failed)
+    assert "not a NumPy .npy file" in failed["noise.npy"], failed
+    assert "not a PNG image" in failed["noise.png"], failed
+
+
 def test_dask_writes_what_one_renderer_writes_and_reports_the_bad_file(tmp_path):
     """Two LocalCluster workers over maps made here: every output equals a single-process
     Renderer's exactly, in each format; a corrupt file is reported and skipped, the others
@@ -451,6 +566,19 @@ def test_save_ao_refuses_what_it_cannot_write(tmp_path):
         obscura.save_ao(tmp_path / "ao.npy", np.ones((4, 4, 2), np.float32))
     with pytest.raises(OSError, match="cannot write"):
         obscura.save_ao(tmp_path / "no" / "such" / "dir" / "ao.npy", ao)
+    # AO is a fraction with at least one pixel: NaN, infinities, values outside [0, 1]
+    # and empty arrays are refused in every format, and no file is left.
+    for bad, says in [(np.nan, "the first, NaN"), (np.inf, "the first, inf"),
+                      (-0.5, "the first, -0.5"), (5.0, "the first, 5")]:
+        a = ao.copy()
+        a[2, 3] = bad
+        for suffix in [".npy", ".exr", ".png"]:
+            with pytest.raises(ValueError, match=rf"{says}.*row 2, column 3"):
+                obscura.save_ao(tmp_path / f"bad{suffix}", a)
+    for shape in [(0, 5), (5, 0), (0, 0)]:
+        for suffix in [".npy", ".exr", ".png"]:
+            with pytest.raises(ValueError, match="at least one pixel"):
+                obscura.save_ao(tmp_path / f"empty{suffix}", np.ones(shape, np.float32))
     obscura.save_ao(tmp_path / "ao.npy", ao[:, ::2])  # any strides
     np.testing.assert_array_equal(np.load(tmp_path / "ao.npy"), ao[:, ::2])
     assert [p.name for p in tmp_path.iterdir()] == ["ao.npy"]
