@@ -13,8 +13,8 @@ pub fn check_png_path(path: &Path) -> Result<()> {
     check_folder(path)
 }
 
-/// Checks that the folder `path` would be written into exists.
-fn check_folder(path: &Path) -> Result<()> {
+/// Checks that the folder `path` would be written into exists: up front, for any output.
+pub fn check_folder(path: &Path) -> Result<()> {
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),

@@ -462,6 +462,7 @@ fn eval_rows() -> Vec<Row> {
         row(EVAL, "--picture-scale 1", Refused(refused)),
         row(&EVAL.replace("--estimators gtao", "--estimators vo"), "--bent-normals", Refused(refused)),
         row(EVAL, "--guard-bands=-1", Refused("0..=1024")),
+        row(EVAL, "--json {d}/no/such/q.json", Refused("does not exist")),
     ]
 }
 
@@ -489,6 +490,7 @@ fn lights_rows() -> Vec<Row> {
             Refused("none.json"),
         ),
         row(LIGHTS, "--periods 3", Refused("2, 4 or 8")),
+        row(LIGHTS, "--markdown {d}/no/l.md", Refused("does not exist")),
     ]
 }
 
@@ -518,6 +520,7 @@ fn bench_rows() -> Vec<Row> {
         row(BENCH, "--plot {d}/b.svg", Writes("b.svg")),
         row(BENCH, "--radii 4,8", w),
         row(BENCH, "--runs 2", w),
+        row(BENCH, "--json {d}/no/b.json", Refused("does not exist")),
     ]
 }
 

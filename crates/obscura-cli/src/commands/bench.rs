@@ -241,6 +241,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             a.resolution.scale
         );
     }
+    if let Some(p) = &a.json {
+        crate::output::check_folder(p)?;
+    }
     if let Some(p) = &a.plot {
         check_svg_path(p)?;
     }

@@ -127,6 +127,9 @@ pub fn run(a: &LightsArgs) -> Result<()> {
     check(a)?;
     let jobs = a.views.jobs()?;
     let file_lights = a.lights_file.as_deref().map(read_lights).transpose()?;
+    if let Some(p) = &a.markdown {
+        crate::output::check_folder(p)?;
+    }
     // The pictures' folder once every input has been read.
     if let Some(dir) = &a.out_dir {
         std::fs::create_dir_all(dir)

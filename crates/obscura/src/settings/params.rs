@@ -68,7 +68,8 @@ pub struct AoParams {
     /// Range: finite, > 0. Default 1.0.
     pub radius: f32,
     /// Tangent bias angle in degrees: horizons less than this above the tangent plane do not
-    /// occlude (hides tessellation and depth-precision noise). Range 0..60. Default 10.
+    /// occlude (hides tessellation and depth-precision noise). HBAO and SAO only; the other
+    /// estimators take none. Range 0..60. Default 10.
     pub bias_angle_deg: f32,
     /// Multiplier on the occlusion (1 = the estimator's own value). Range 0..=4. Default 1.
     pub strength: f32,

@@ -73,6 +73,9 @@ pub fn run(a: &EvalArgs) -> Result<()> {
         }
         return ssdo::evaluate(a, &jobs);
     }
+    for p in [&a.json, &a.export_views].into_iter().flatten() {
+        crate::output::check_folder(p)?;
+    }
     if let Some(path) = &a.export_views {
         return images::export_views(a, &jobs, path);
     }
