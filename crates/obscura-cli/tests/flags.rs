@@ -4,6 +4,7 @@
 //! malformed argument) and no output is left. A flag added without a row here fails
 //! `every_flag_has_a_row`.
 
+use obscura::depth_map::npy_f32;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -355,32 +356,14 @@ fn depth_inputs() {
             }
         }
     }
-    std::fs::write(d.join("d.npy"), npy(&[h, w], &depth)).unwrap();
+    std::fs::write(d.join("d.npy"), npy_f32(&depth, &[h as u32, w as u32])).unwrap();
     let normals: Vec<f32> = (0..w * h).flat_map(|_| [0.0, 0.0, -1.0]).collect();
-    std::fs::write(d.join("n.npy"), npy(&[h, w, 3], &normals)).unwrap();
+    std::fs::write(d.join("n.npy"), npy_f32(&normals, &[h as u32, w as u32, 3])).unwrap();
     std::fs::write(
         d.join("k.json"),
         r#"{"fx": 60, "fy": 60, "cx": 31.5, "cy": 23.5, "width": 64, "height": 48}"#,
     )
     .unwrap();
-}
-
-/// A float32 `.npy` of `shape` (NumPy's format, version 1).
-fn npy(shape: &[usize], values: &[f32]) -> Vec<u8> {
-    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
-    let mut header = format!(
-        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({},), }}",
-        dims.join(", ")
-    );
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend(values.iter().flat_map(|v| v.to_le_bytes()));
-    out
 }
 
 const EVAL: &str = "eval --view cornell --scenes-dir {shared}scenes --width 32 --height 20 --rays 4 --runs 1 --estimators gtao --modes randomized --no-screen-reference --cache {cache} --json {d}/q.json";
