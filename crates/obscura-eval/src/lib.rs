@@ -4,6 +4,7 @@
 
 pub mod bvh;
 pub mod cache;
+pub mod flip;
 pub mod layers;
 pub mod metrics;
 pub mod sensor;

@@ -29,6 +29,23 @@ pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float
 /// accumulation, whose reprojection may read anywhere in the band.
 pub const GUARD_AO_MARGIN: u32 = 8;
 
+/// The near field of the deinterleaved AO pass, in cells of its N-pixel lattice: offsets
+/// shorter than this many cells are taken at full resolution (from whichever layer holds
+/// the pixel), farther ones are snapped to the layer's own lattice. Snapping moves a sample
+/// by up to half a cell in each axis, as much as the distance of the nearest samples, where
+/// contact occlusion is decided; farther out it is a small fraction of the distance, and
+/// neighbouring invocations keep fetching neighbouring texels of one layer (the layout's
+/// cache benefit, seed 000: deinterleaved texturing).
+pub const NEAR_FIELD_CELLS: u32 = 2;
+
+/// Interleaved gradient noise (Jimenez 2014, "Next Generation Post Processing in Call of
+/// Duty: Advanced Warfare"): `fract(c · fract(a x + b y))` for pixel (x, y) is `[a, b, c]`;
+/// the second value of a pixel is the first at (x + s, y + s), s = [`IGN_SHIFT`]. The
+/// deinterleaved AO pass turns each pixel's pattern by it (jitter.rs, `pixel_pattern`).
+pub const IGN_WEIGHTS: [f32; 3] = [0.067_110_56, 0.005_837_15, 52.982_92];
+/// See [`IGN_WEIGHTS`].
+pub const IGN_SHIFT: f32 = 5.588_238;
+
 /// Tangent-plane tolerance of the depth-aware passes (classified and bilateral upsampling,
 /// the denoiser, temporal reprojection): a sample farther than this fraction of the depth
 /// (or [`NOISE_TOLERANCE_SIGMAS`] σ of the depth noise, if more) from the centre's tangent

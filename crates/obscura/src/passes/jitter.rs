@@ -3,6 +3,8 @@
 //! deinterleaving paper compares against (seed 000: "SSAO pass with a 4x4 random texture").
 //! Deinterleaved N×N modes give layer `(i, j)` the pattern `pattern[i + 4 * j]`.
 
+use crate::passes::constants::{IGN_SHIFT, IGN_WEIGHTS};
+
 /// Side of the pattern tile in pixels.
 pub const PATTERN_DIM: u32 = 4;
 /// Number of distinct patterns.
@@ -77,6 +79,44 @@ pub fn fixed_table(sector: f32) -> [[f32; 4]; PATTERN_COUNT] {
     [[theta.cos(), theta.sin(), 0.5, 0.0]; PATTERN_COUNT]
 }
 
+/// Two values in [0, 1) per pixel whose neighbours differ widely, so a small filter
+/// averages them out: interleaved gradient noise ([`IGN_WEIGHTS`]) at the pixel and at the
+/// pixel shifted by [`IGN_SHIFT`]. Pixels are the AO grid's, so a guard band is the crop
+/// of the widened frame (and moves the noise under the view by the band). Mirrors
+/// `pixel_noise` in passes/estimators/ao_layered.wgsl.
+pub fn pixel_noise(x: i32, y: i32) -> [f32; 2] {
+    let [a, b, c] = IGN_WEIGHTS;
+    let fract = |v: f32| v - v.floor();
+    let ign = |x: f32, y: f32| fract(c * fract(a * x + b * y));
+    let (x, y) = (x as f32, y as f32);
+    [ign(x, y), ign(x + IGN_SHIFT, y + IGN_SHIFT)]
+}
+
+/// The pattern of full-resolution pixel `(x, y)` in an N×N deinterleaved layout: its
+/// layer's `base` entry turned within the layer's stratum of the rotation sector `sector`
+/// (1/N² of it) and its ray offset moved within its 1/N² of a step, both by
+/// [`pixel_noise`] of `(x, y)`, the AO grid's pixel. A layer's pixels
+/// then march nearby directions (the layout's cache benefit) but not one set of directions,
+/// whose streaks the denoiser cannot remove. Mirrors `pixel_pattern` in
+/// passes/estimators/ao_layered.wgsl; `sector` 0 keeps `base`.
+pub fn pixel_pattern(base: [f32; 4], x: i32, y: i32, split: u32, sector: f32) -> [f32; 4] {
+    if sector == 0.0 {
+        return base;
+    }
+    let [u, v] = pixel_noise(x, y);
+    let share = 1.0 / (split * split) as f32;
+    let half = 0.5 / PATTERN_COUNT as f32;
+    let turn = (u * share - half) * sector;
+    let (s, c) = turn.sin_cos();
+    let [bc, bs, o, w] = base;
+    [
+        bc * c - bs * s,
+        bs * c + bc * s,
+        (o + v * share - half).rem_euclid(1.0),
+        w,
+    ]
+}
+
 /// Index into [`pattern_table`] of full-resolution pixel `(x, y)` when sampling patterns
 /// repeat every `dim` pixels (4 for the randomized pass and 4×4 deinterleaving, 2 for 2×2).
 pub fn pattern_index(x: u32, y: u32, dim: u32) -> usize {
@@ -120,6 +160,46 @@ mod tests {
         }
         assert_eq!(rot, [1; 16], "{off:?}");
         assert!(off.iter().all(|&n| n >= 3), "{off:?}");
+    }
+
+    /// Every pixel of a deinterleaved layer turns its layer's pattern within the layer's own
+    /// 1/N² of the sector and moves its offset within its own 1/N² of a step: the layers stay
+    /// stratified, and a layer's pixels do not all march one set of directions.
+    #[test]
+    fn pixel_patterns_stay_in_their_layers_strata() {
+        let sector = std::f32::consts::PI / 3.0;
+        let t = pattern_table(sector);
+        for split in [2u32, 4] {
+            let share = 1.0 / (split * split) as f32;
+            for layer in 0..split * split {
+                let (lx, ly) = (layer % split, layer / split);
+                let base = t[pattern_index(lx, ly, split)];
+                let start = base[1].atan2(base[0]) - 0.5 / PATTERN_COUNT as f32 * sector;
+                let o_start = base[2] - 0.5 / PATTERN_COUNT as f32;
+                let mut turns = Vec::new();
+                for (x, y) in (0..16).flat_map(|i| (0..16).map(move |j| (i, j))) {
+                    let (px, py) = ((x * split + lx) as i32 - 9, (y * split + ly) as i32);
+                    let [c, s, o, _] = pixel_pattern(base, px, py, split, sector);
+                    assert!((c * c + s * s - 1.0).abs() < 1e-5);
+                    let turn = (s.atan2(c) - start) / sector;
+                    assert!(
+                        (-1e-5..share + 1e-5).contains(&turn),
+                        "{split} {layer}: {turn}"
+                    );
+                    let moved = (o - o_start).rem_euclid(1.0);
+                    assert!(moved < share + 1e-5, "{split} {layer}: offset {moved}");
+                    turns.push(turn);
+                }
+                // Spread over the stratum, not one direction.
+                let (lo, hi) = turns
+                    .iter()
+                    .fold((1.0f32, 0.0f32), |(l, h), t| (l.min(*t), h.max(*t)));
+                assert!(hi - lo > 0.8 * share, "{split} {layer}: {lo}..{hi}");
+            }
+        }
+        // Without jitter (sector 0) the pattern is the layer's.
+        let base = t[0];
+        assert_eq!(pixel_pattern(base, 5, 7, 2, 0.0), base);
     }
 
     #[test]

@@ -1,8 +1,9 @@
 //! The markdown document `eval --report` writes: its introduction, and one section per
-//! view with the pictures of every variant and their signed errors.
+//! view with the pictures of every variant, their signed errors, ꟻLIP maps and pattern
+//! errors.
 
 use super::args::{EvalArgs, FalloffArg, TruthArg};
-use super::pictures::{write_error, write_gray};
+use super::pictures::{write_error, write_flip, write_gray};
 use super::report::relative_dir;
 use crate::views::Job;
 use anyhow::Result;
@@ -32,24 +33,37 @@ pub(super) struct ViewFacts<'a> {
     pub(super) seconds: f64,
 }
 
+/// What a view's pictures show: the truth, the compared pixels, and each scored image with
+/// its ꟻLIP map against the truth and its estimator's screen-space reference, if any.
+pub(super) struct Pictures<'a> {
+    pub(super) truth: &'a [f32],
+    pub(super) mask: &'a [bool],
+    pub(super) scored: &'a [Scored],
+    pub(super) maps: &'a [(Vec<f32>, Option<&'a Vec<f32>>)],
+}
+
+/// The range of the pattern error's heat map: a sampling pattern's streaks are a few
+/// hundredths, so a narrower scale than the error's.
+const PATTERN_RANGE: f32 = 0.1;
+
 /// Appends `view`'s section to `sections`, writing its pictures beside the markdown `md` in
-/// `dir`: the reference `r`, then each of `scored` and its signed error over `mask`.
+/// `dir`: the truth, then each scored image, its signed error and ꟻLIP map against the
+/// truth, and its pattern error (against its own screen-space reference).
 pub(super) fn view_section(
     sections: &mut String,
     a: &EvalArgs,
     (dir, md): (&Path, &Path),
     view: &ViewFacts,
-    r: &[f32],
-    mask: &[bool],
-    scored: &[Scored],
+    p: &Pictures,
 ) -> Result<()> {
     let (w, h) = (a.width, a.height);
+    let (scale, mask) = (a.picture_scale, p.mask);
     let rel = relative_dir(dir, md);
     let pic = |stem: &str| format!("{}-{}.png", view.job.name, stem.replace(' ', "-"));
-    write_gray(&dir.join(pic("reference")), r, w, h, a.picture_scale)?;
+    write_gray(&dir.join(pic("reference")), p.truth, w, h, scale)?;
     let _ = write!(
         sections,
-        "\n### {}\n\n`{}`, {} triangles, radius {:.3}, reference {} rays/pixel (mean standard error {:.4}), eval {}×{}; evaluated in {:.0} s.\n\n| reference | {} |\n|---|{}\n| ![]({rel}{}) |",
+        "\n### {}\n\n`{}`, {} triangles, radius {:.3}, reference {} rays/pixel (mean standard error {:.4}), eval {}×{}; evaluated in {:.0} s. ꟻLIP at {} pixels per degree.\n\n| reference | {} |\n|---|{}\n| ![]({rel}{}) |",
         view.job.name,
         view.job.file.display(),
         view.triangles,
@@ -59,33 +73,67 @@ pub(super) fn view_section(
         w,
         h,
         view.seconds,
-        scored
+        obscura_eval::flip::PIXELS_PER_DEGREE,
+        p.scored
             .iter()
             .map(|r| r.0.as_str())
             .collect::<Vec<_>>()
             .join(" | "),
-        "---|".repeat(scored.len()),
+        "---|".repeat(p.scored.len()),
         pic("reference"),
     );
-    for (name, _, _, img, _, _) in scored {
-        write_gray(&dir.join(pic(name)), img, w, h, a.picture_scale)?;
-        write_error(
-            &dir.join(pic(&format!("{name}-error"))),
-            img,
-            r,
+    for ((name, _, _, img, _, _), (map, screen)) in p.scored.iter().zip(p.maps) {
+        write_gray(&dir.join(pic(name)), img, w, h, scale)?;
+        let error = pic(&format!("{name}-error"));
+        write_error(&dir.join(error), img, p.truth, mask, (w, h), 0.5, scale)?;
+        write_flip(
+            &dir.join(pic(&format!("{name}-flip"))),
+            map,
             mask,
-            w,
-            h,
-            a.picture_scale,
+            (w, h),
+            scale,
         )?;
+        if let Some(s) = screen {
+            let pattern = pic(&format!("{name}-pattern"));
+            write_error(
+                &dir.join(pattern),
+                img,
+                s,
+                mask,
+                (w, h),
+                PATTERN_RANGE,
+                scale,
+            )?;
+        }
         let _ = write!(sections, " ![]({rel}{}) |", pic(name));
     }
-    let _ = write!(
-        sections,
-        "\n| signed error (red: too bright, blue: too dark, ±0.5) |"
-    );
-    for (name, _, _, _, _, _) in scored {
-        let _ = write!(sections, " ![]({rel}{}) |", pic(&format!("{name}-error")));
+    let rows: [(&str, &str); 3] = [
+        (
+            "error",
+            "signed error (red: too bright, blue: too dark, ±0.5)",
+        ),
+        ("flip", "ꟻLIP against the truth (black: none, yellow: most)"),
+        (
+            "pattern",
+            "pattern error: against its own screen-space reference (±0.1)",
+        ),
+    ];
+    for (suffix, title) in rows {
+        if suffix == "pattern" && p.maps.iter().all(|m| m.1.is_none()) {
+            continue;
+        }
+        let _ = write!(sections, "\n| {title} |");
+        for ((name, ..), (_, screen)) in p.scored.iter().zip(p.maps) {
+            if suffix == "pattern" && screen.is_none() {
+                sections.push_str(" – |");
+            } else {
+                let _ = write!(
+                    sections,
+                    " ![]({rel}{}) |",
+                    pic(&format!("{name}-{suffix}"))
+                );
+            }
+        }
     }
     sections.push('\n');
     Ok(())

@@ -10,6 +10,7 @@
 
 mod args;
 mod document;
+mod flicker;
 mod frontier;
 mod images;
 mod orbit;
@@ -346,7 +347,26 @@ pub fn run(a: &EvalArgs) -> Result<()> {
             mut temporal,
             mut still_images,
             orbit_images,
+            last_two,
         } = orbit::accumulate(a, &scene, &v, &mut aos, &of_variant, &input_of, &mask)?;
+        // The moving camera's flicker: the orbit's last frame (this camera) against the one
+        // before, reprojected, less the truth's own change (the truth traced there too).
+        let orbit_flicker: Vec<Option<f32>> = if last_two.iter().any(Option::is_some) {
+            let before = cam.orbit(-a.orbit_step);
+            let truth_before = truth::reference(a, &bytes, &mesh, &before, &settings);
+            let depths = (&reference.depth[..], &truth_before.depth[..]);
+            let pairs = flicker::reproject((&cam, &before), depths, &mask, (w, h));
+            let truths = (&reference.ao[..], &truth_before.ao[..]);
+            last_two
+                .iter()
+                .map(|l| {
+                    l.as_ref()
+                        .map(|[b, l]| flicker::moving_flicker(&pairs, (l, b), truths))
+                })
+                .collect()
+        } else {
+            vec![None; aos.len()]
+        };
         let mut screen = Vec::new();
         let several = a.priors().len() > 1;
         // An estimator's name in labels: the bitmask's with its prior when several are run,
@@ -544,6 +564,8 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     .map(|_| &r.3)
             })
         };
+        // Per scored image, its ꟻLIP map and its screen-space reference (for the pictures).
+        let mut maps = Vec::new();
         for (k, (name, estimator, mode, img, ms, options)) in results.iter().enumerate() {
             // The variant's thickness prior picks the bitmask's screen-space reference.
             // (Rows after the variants are images scored: no prior.)
@@ -562,6 +584,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                     let second = options.is_some_and(|o| o.second_layer);
                     screen_of(e, thickness, guard, second)
                 });
+            let flip_map = obscura_eval::flip::flip_map(img, r, &mask, w, h);
+            let default = variant.is_some_and(|i| {
+                options.is_some_and(|o| o == AoOptions::default())
+                    && guard == 0
+                    && scales[i] == 1.0
+                    && thickness == obscura::DEFAULT_THICKNESS
+            });
             rows.push(Row {
                 view: job.name.clone(),
                 variant: name.clone(),
@@ -570,30 +599,37 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 rmse: metrics::rmse(img, r, &mask),
                 bias: metrics::bias(img, r, &mask),
                 ssim: metrics::ssim(img, r, w as usize, h as usize, &mask),
+                flip: obscura_eval::flip::mean_over(&flip_map, &mask),
+                default,
                 band_rmse: metrics::rmse(img, r, &band),
                 screen_rmse: screen.map(|s| metrics::rmse(img, s, &mask)),
                 screen_bias: screen.map(|s| metrics::bias(img, s, &mask)),
+                screen_flip: screen.map(|s| obscura_eval::flip::flip(img, s, &mask, w, h)),
                 full_rmse,
                 ms: *ms,
                 temporal: variants
                     .iter()
                     .position(|v| &v.0 == name)
                     .and_then(|i| temporal[i]),
+                orbit_flicker: variant.and_then(|i| orbit_flicker.get(i).copied().flatten()),
                 bent: bent_of.get(name).copied(),
             });
+            maps.push((flip_map, screen));
         }
         for row in rows.iter().filter(|x| x.view == job.name) {
             eprintln!(
-                "  {:<30} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  band RMSE {:.4}  {}{}",
+                "  {:<30} RMSE {:.4}  bias {:+.4}  SSIM {:.3}  ꟻLIP {:.4}  band RMSE {:.4}  {}{}",
                 row.variant,
                 row.rmse,
                 row.bias,
                 row.ssim,
+                row.flip,
                 row.band_rmse,
                 row.screen_rmse
                     .zip(row.screen_bias)
-                    .map_or(String::new(), |(m, b)| format!(
-                        "vs screen ref {m:.4} (bias {b:+.4})  "
+                    .zip(row.screen_flip)
+                    .map_or(String::new(), |((m, b), f)| format!(
+                        "vs screen ref {m:.4} (bias {b:+.4}, ꟻLIP {f:.4})  "
                     )),
                 row.ms
                     .map_or(String::new(), |m| format!("{} ms", fmt_ms(m)))
@@ -609,7 +645,13 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 seconds: t0.elapsed().as_secs_f64(),
             };
             let scored = &results[1 + screen.len()..];
-            document::view_section(&mut sections, a, (dir, md), &facts, r, &mask, scored)?;
+            let pictures = document::Pictures {
+                truth: r,
+                mask: &mask,
+                scored,
+                maps: &maps[1 + screen.len()..],
+            };
+            document::view_section(&mut sections, a, (dir, md), &facts, &pictures)?;
         }
     }
 

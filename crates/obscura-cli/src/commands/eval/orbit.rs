@@ -1,5 +1,6 @@
 //! Temporal accumulation in `eval`: each accumulated variant's still frames (and one more
-//! for the flicker), then one orbit ending at the view's camera.
+//! for the flicker), then one orbit ending at the view's camera, which single frames join
+//! for its last two frames.
 
 use super::args::EvalArgs;
 use super::rows::TemporalFigures;
@@ -23,11 +24,14 @@ pub(super) struct Scene<'a> {
 }
 
 /// What accumulation gives, per variant (`None` for single frames): the figures, the
-/// still camera's last frame, and the orbit's last frame with each pixel's history count.
+/// still camera's last frame, and the orbit's last frame with each pixel's history count;
+/// and for every variant, single frames too, the orbit's last two frames (`None` without
+/// an orbit).
 pub(super) struct Accumulated {
     pub(super) temporal: Vec<Option<TemporalFigures>>,
     pub(super) still_images: Vec<Option<Vec<f32>>>,
     pub(super) orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>>,
+    pub(super) last_two: Vec<Option<[Vec<f32>; 2]>>,
 }
 
 /// N frames of the still camera for each accumulated variant, one more for the flicker
@@ -63,13 +67,16 @@ pub(super) fn accumulate<'i>(
     let mut temporal: Vec<Option<TemporalFigures>> = vec![None; aos.len()];
     let mut still_images: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
     let mut orbit_images: Vec<Option<(Vec<f32>, Vec<f32>)>> = vec![None; aos.len()];
+    let mut last_two: Vec<Option<[Vec<f32>; 2]>> = vec![None; aos.len()];
     if orbit_frames <= 1 {
         return Ok(Accumulated {
             temporal,
             still_images,
             orbit_images,
+            last_two,
         });
     }
+    let mut before_last: Vec<Option<Vec<f32>>> = vec![None; aos.len()];
     for (i, ao) in aos.iter_mut().enumerate() {
         if frames_of[i] == 1 {
             continue;
@@ -108,8 +115,9 @@ pub(super) fn accumulate<'i>(
             }
         }
         for (i, ao) in aos.iter_mut().enumerate() {
-            let first = orbit_frames - frames_of[i];
-            if frames_of[i] == 1 || k < first {
+            // Single frames join for the last two frames (the moving camera's flicker).
+            let first = orbit_frames - frames_of[i].max(2);
+            if k < first {
                 continue;
             }
             let motion = match previous {
@@ -130,8 +138,15 @@ pub(super) fn accumulate<'i>(
                 ..gk.ao_input(&c, gbuffer_normals)
             };
             ctx.run(|enc| ao.record(&ctx.device, &ctx.queue, enc, &ik, &p))?;
+            if k + 2 == orbit_frames {
+                before_last[i] = Some(ctx.read_f32(ao.output().context("AO output missing")?)?);
+            }
         }
         previous = Some(c);
+    }
+    for (i, ao) in aos.iter().enumerate() {
+        let last = ctx.read_f32(ao.output().context("AO output missing")?)?;
+        last_two[i] = before_last[i].take().map(|b| [b, last]);
     }
     for (i, ao) in aos.iter().enumerate().filter(|(i, _)| frames_of[*i] > 1) {
         let out = ctx.read_f32(ao.output().context("AO output missing")?)?;
@@ -164,5 +179,6 @@ pub(super) fn accumulate<'i>(
         temporal,
         still_images,
         orbit_images,
+        last_two,
     })
 }

@@ -1,5 +1,5 @@
-//! The report's pictures: AO in grey and the signed error as a heat map, box-filtered to
-//! `--picture-scale`.
+//! The report's pictures: AO in grey, the signed error as a heat map and ꟻLIP maps,
+//! box-filtered to `--picture-scale`.
 
 use crate::output::save_png;
 use anyhow::Result;
@@ -38,15 +38,15 @@ pub(super) fn write_gray(path: &Path, img: &[f32], w: u32, h: u32, scale: f32) -
     save_png(path, &px, sw, sh, image::ExtendedColorType::L8)
 }
 
-/// Signed error heat map: white = exact, red = too bright, blue = too dark (±0.5 saturates),
-/// grey = not compared.
+/// Signed error heat map: white = exact, red = too bright, blue = too dark (±`range`
+/// saturates), grey = not compared.
 pub(super) fn write_error(
     path: &Path,
     img: &[f32],
     reference: &[f32],
     mask: &[bool],
-    w: u32,
-    h: u32,
+    (w, h): (u32, u32),
+    range: f32,
     scale: f32,
 ) -> Result<()> {
     let rgb: Vec<[f32; 3]> = img
@@ -57,11 +57,36 @@ pub(super) fn write_error(
             if !m {
                 return [0.5; 3];
             }
-            let e = ((a - b) / 0.5).clamp(-1.0, 1.0);
+            let e = ((a - b) / range).clamp(-1.0, 1.0);
             if e >= 0.0 {
                 [1.0, 1.0 - e, 1.0 - e]
             } else {
                 [1.0 + e, 1.0 + e, 1.0]
+            }
+        })
+        .collect();
+    let (s, sw, sh) = shrink(&rgb, w, h, scale);
+    let px: Vec<u8> = s.iter().flat_map(|p| p.map(to8)).collect();
+    save_png(path, &px, sw, sh, image::ExtendedColorType::Rgb8)
+}
+
+/// A ꟻLIP map in ꟻLIP's magma colours (black: no difference), grey where not compared.
+pub(super) fn write_flip(
+    path: &Path,
+    map: &[f32],
+    mask: &[bool],
+    (w, h): (u32, u32),
+    scale: f32,
+) -> Result<()> {
+    let colours = obscura_eval::flip::magma(map, w, h);
+    let rgb: Vec<[f32; 3]> = colours
+        .chunks_exact(3)
+        .zip(mask)
+        .map(|(c, m)| {
+            if *m {
+                [c[0], c[1], c[2]].map(|v| v as f32 / 255.0)
+            } else {
+                [0.5; 3]
             }
         })
         .collect();

@@ -164,12 +164,12 @@ pub(super) fn bent_table(rows: &[Row]) -> String {
 pub(super) fn summary_table(rows: &[Row]) -> String {
     let mixed = rows.iter().any(|r| r.full_rmse.is_some());
     let mut s = String::from(
-        "| view | estimator / mode | RMSE | bias | SSIM | band RMSE | RMSE vs screen ref | bias vs screen ref |",
+        "| view | estimator / mode | RMSE | bias | SSIM | ꟻLIP | band RMSE | RMSE vs screen ref | bias vs screen ref | ꟻLIP vs screen ref |",
     );
     s.push_str(if mixed {
-        " RMSE vs full res | band RMSE vs full res | ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n"
+        " RMSE vs full res | band RMSE vs full res | ms |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     } else {
-        " ms |\n|---|---|---|---|---|---|---|---|---|\n"
+        " ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n"
     });
     for r in rows {
         let full = match (mixed, r.full_rmse) {
@@ -179,16 +179,18 @@ pub(super) fn summary_table(rows: &[Row]) -> String {
         };
         let _ = writeln!(
             s,
-            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {} | {} |{full} {} |",
+            "| {} | {} | {:.4} | {:+.4} | {:.3} | {:.4} | {:.4} | {} | {} | {} |{full} {} |",
             r.view,
             r.variant,
             r.rmse,
             r.bias,
             r.ssim,
+            r.flip,
             r.band_rmse,
             r.screen_rmse.map_or("–".to_string(), |m| format!("{m:.4}")),
             r.screen_bias
                 .map_or("–".to_string(), |b| format!("{b:+.4}")),
+            r.screen_flip.map_or("–".to_string(), |m| format!("{m:.4}")),
             r.ms.map_or("–".to_string(), fmt_ms)
         );
     }
@@ -196,28 +198,39 @@ pub(super) fn summary_table(rows: &[Row]) -> String {
 }
 
 /// The temporal figures of `eval --frames N`, per view and variant, and their means.
+/// A row of the temporal table: an accumulated variant's figures, or a single frame's.
+type TemporalRow<'a> = (&'a Row, Option<TemporalFigures>);
+
 pub(super) fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
-    let t: Vec<(&Row, TemporalFigures)> = rows
+    // Accumulated variants, and single frames with the orbit's flicker.
+    let t: Vec<TemporalRow> = rows
         .iter()
-        .filter_map(|r| r.temporal.map(|t| (r, t)))
+        .filter(|r| r.temporal.is_some() || r.orbit_flicker.is_some())
+        .map(|r| (r, r.temporal))
         .collect();
     if t.is_empty() {
         return String::new();
     }
     let mut s = format!(
-        "\n### Temporal accumulation (history {})\n\n*×N*: scored after N frames of a still camera. *Flicker*: mean |AO(frame N+1) − AO(frame N)| of the still camera. *Orbit*: N frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame. *Disoccluded*: pixels of that frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's N-frame image (ratio: 1 is as good as the still camera).\n\n| view | variant | RMSE (still, N frames) | flicker | orbit RMSE | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|\n",
+        "\n### Temporal accumulation (history {})\n\n*×N*: scored after N frames of a still camera. *Flicker*: mean |AO(frame N+1) − AO(frame N)| of the still camera. *Orbit*: N frames {}° apart about the vertical axis through the target, ending at the view; RMSE of its last frame (a single frame's is its still RMSE: the same camera). *Orbit flicker*: the orbit's last frame against the one before, reprojected (pixels that see the same surface in both), less the truth's own change: mean |(AO − AO′) − (truth − truth′)|; single frames take the orbit's last two frames too. *Disoccluded*: pixels of the last frame that became visible 4 frames earlier (history of 5 frames): their RMSE after the orbit, against the same pixels in the still camera's N-frame image (ratio: 1 is as good as the still camera).\n\n| view | variant | RMSE (still, N frames) | flicker | orbit RMSE | orbit flicker | disoccluded pixels | their RMSE | same pixels still | ratio |\n|---|---|---|---|---|---|---|---|---|---|\n",
         a.history, a.orbit_step
     );
+    let opt = |v: Option<f32>| v.map_or("–".to_string(), |v| format!("{v:.4}"));
     for (r, f) in &t {
         let d = f
-            .disoccluded
+            .and_then(|f| f.disoccluded)
             .map_or(" – | – | – | – |".to_string(), |(o, st, n)| {
                 format!(" {n} | {o:.4} | {st:.4} | {:.2} |", o / st.max(1e-6))
             });
         let _ = writeln!(
             s,
-            "| {} | {} | {:.4} | {:.4} | {:.4} |{d}",
-            r.view, r.variant, r.rmse, f.flicker, f.orbit_rmse
+            "| {} | {} | {:.4} | {} | {:.4} | {} |{d}",
+            r.view,
+            r.variant,
+            r.rmse,
+            opt(f.map(|f| f.flicker)),
+            f.map_or(r.rmse, |f| f.orbit_rmse),
+            opt(r.orbit_flicker),
         );
     }
     let mut variants: Vec<&str> = t.iter().map(|(r, _)| r.variant.as_str()).collect();
@@ -225,13 +238,15 @@ pub(super) fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
     variants.sort();
     variants.dedup();
     for v in variants {
-        let of: Vec<&(&Row, TemporalFigures)> = t.iter().filter(|(r, _)| r.variant == v).collect();
+        let of: Vec<&TemporalRow> = t.iter().filter(|(r, _)| r.variant == v).collect();
         let n = of.len() as f32;
-        let mean =
-            |f: &dyn Fn(&(&Row, TemporalFigures)) -> f32| of.iter().map(|x| f(x)).sum::<f32>() / n;
+        let mean = |f: &dyn Fn(&TemporalRow) -> Option<f32>| {
+            let got: Vec<f32> = of.iter().filter_map(|x| f(x)).collect();
+            (got.len() == of.len()).then(|| got.iter().sum::<f32>() / n)
+        };
         let (o, st): (f32, f32) = of
             .iter()
-            .filter_map(|(_, f)| f.disoccluded)
+            .filter_map(|(_, f)| f.and_then(|f| f.disoccluded))
             .fold((0.0, 0.0), |acc, (o, st, _)| {
                 (acc.0 + o * o, acc.1 + st * st)
             });
@@ -243,10 +258,11 @@ pub(super) fn temporal_table(rows: &[Row], a: &EvalArgs) -> String {
         };
         let _ = writeln!(
             s,
-            "| **mean** | {v} | {:.4} | {:.4} | {:.4} | | | | {pooled} |",
-            mean(&|x| x.0.rmse),
-            mean(&|x| x.1.flicker),
-            mean(&|x| x.1.orbit_rmse),
+            "| **mean** | {v} | {} | {} | {} | {} | | | | {pooled} |",
+            opt(mean(&|x| Some(x.0.rmse))),
+            opt(mean(&|x| x.1.map(|f| f.flicker))),
+            opt(mean(&|x| Some(x.1.map_or(x.0.rmse, |f| f.orbit_rmse)))),
+            opt(mean(&|x| x.0.orbit_flicker)),
         );
     }
     s
@@ -283,7 +299,7 @@ pub(super) fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
         let d = t.and_then(|t| t.disoccluded);
         let _ = writeln!(
             s,
-            "    {{\"view\": {}, \"variant\": {}, \"estimator\": {}, \"mode\": {}, \"rmse\": {}, \"bias\": {}, \"ssim\": {}, \"band_rmse\": {}, \"screen_rmse\": {}, \"screen_bias\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"frames\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
+            "    {{\"view\": {}, \"variant\": {}, \"estimator\": {}, \"mode\": {}, \"rmse\": {}, \"bias\": {}, \"ssim\": {}, \"flip\": {}, \"default\": {}, \"band_rmse\": {}, \"screen_rmse\": {}, \"screen_bias\": {}, \"screen_flip\": {}, \"full_rmse\": {}, \"full_band_rmse\": {}, \"median_ms\": {}, \"frames\": {}, \"flicker\": {}, \"orbit_rmse\": {}, \"orbit_flicker\": {}, \"disoccluded_rmse\": {}, \"disoccluded_still_rmse\": {}, \"bent_deg\": {}, \"bent_occluded_deg\": {}, \"normal_deg\": {}, \"normal_occluded_deg\": {}}}{}",
             text(&r.view),
             text(&r.variant),
             text(&r.estimator),
@@ -291,15 +307,19 @@ pub(super) fn json(rows: &[Row], info: &[(String, f32, f32, usize)]) -> String {
             num32(Some(r.rmse)),
             num32(Some(r.bias)),
             num32(Some(r.ssim)),
+            num32(Some(r.flip)),
+            r.default,
             num32(Some(r.band_rmse)),
             num32(r.screen_rmse),
             num32(r.screen_bias),
+            num32(r.screen_flip),
             num32(r.full_rmse.map(|m| m.0)),
             num32(r.full_rmse.map(|m| m.1)),
             num(r.ms),
             t.map_or(1, |t| t.frames),
             num32(t.map(|t| t.flicker)),
             num32(t.map(|t| t.orbit_rmse)),
+            num32(r.orbit_flicker),
             num32(d.map(|d| d.0)),
             num32(d.map(|d| d.1)),
             num32(r.bent.map(|e| e.bent)),
@@ -336,12 +356,16 @@ mod tests {
             rmse: 0.05,
             bias: 0.0,
             ssim: 1.0,
+            flip: 0.1,
+            default: false,
             band_rmse: 0.1,
             screen_rmse: None,
             screen_bias: None,
+            screen_flip: None,
             full_rmse,
             ms: Some(ms),
             temporal: None,
+            orbit_flicker: None,
             bent: None,
         }
     }
@@ -400,6 +424,8 @@ mod tests {
         assert_eq!(f32_of(&rec["full_rmse"]), 0.1);
         assert_eq!(rec["median_ms"].as_f64(), Some(12.345_678_901_234));
         assert_eq!(rec["variant"], "gtao \"odd\" name");
+        assert_eq!(rec["default"], false);
+        assert_eq!(f32_of(&rec["flip"]), 0.1);
         assert!(rec["screen_rmse"].is_null() && rec["flicker"].is_null());
         assert_eq!(f32_of(&v["views"][0]["radius"]), 1.234_567_9);
     }

@@ -11,18 +11,29 @@ pub(super) struct Row {
     pub(super) rmse: f32,
     pub(super) bias: f32,
     pub(super) ssim: f32,
+    /// Mean ꟻLIP against the truth (obscura_eval::flip).
+    pub(super) flip: f32,
+    /// Whether this is the library's default frame (`AoOptions::default()`, no guard band,
+    /// the default thickness, full scale, one frame).
+    pub(super) default: bool,
     pub(super) band_rmse: f32,
     /// RMSE against the estimator's own screen-space reference: its sampling error.
     pub(super) screen_rmse: Option<f32>,
     /// Mean difference from the estimator's own screen-space reference: the sampling's
     /// bias (a maximum over a few steps reads horizons low, so GTAO's is positive).
     pub(super) screen_bias: Option<f32>,
+    /// Mean ꟻLIP against the estimator's own screen-space reference: how visible the
+    /// sampling pattern is (streaks, noise).
+    pub(super) screen_flip: Option<f32>,
     /// Below full resolution (or with denoising): RMSE over the image and over the band
     /// against the same estimator and mode at full resolution.
     pub(super) full_rmse: Option<(f32, f32)>,
     pub(super) ms: Option<f64>,
     /// With --frames: the temporal figures.
     pub(super) temporal: Option<TemporalFigures>,
+    /// With --frames, for every variant: the flicker of the orbit's last two frames
+    /// (eval/flicker.rs).
+    pub(super) orbit_flicker: Option<f32>,
     /// With --bent-normals: the bent normals' angles to the traced ones.
     pub(super) bent: Option<BentError>,
 }

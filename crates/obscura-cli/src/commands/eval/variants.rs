@@ -8,6 +8,33 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
+/// The label of the library's default frame (`AoOptions::default()`), a row of every run
+/// whose command line picks no variant (`VARIANT_FLAGS`).
+pub(super) const DEFAULT_LABEL: &str = "default";
+
+/// The flags that pick variants (clap's ids): with none of them given, eval adds the
+/// default frame.
+const VARIANT_FLAGS: [&str; 18] = [
+    "estimators",
+    "splits",
+    "presets",
+    "modes",
+    "resolutions",
+    "scales",
+    "thickness",
+    "march_exponents",
+    "guard_bands",
+    "second_layer",
+    "downsamples",
+    "upsamplers",
+    "denoise",
+    "frames",
+    "history",
+    "preset",
+    "directions",
+    "steps",
+];
+
 /// How one group of variants chooses its sample counts.
 #[derive(Clone, Copy)]
 enum SampleChoice {
@@ -257,6 +284,15 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
                 samples_of.push(*samples);
             }
         }
+    }
+    // With no flag that picks variants, the library's default frame too: what users get.
+    if !VARIANT_FLAGS.iter().any(|f| a.given.contains(*f)) {
+        variants.push((DEFAULT_LABEL.into(), AoOptions::default()));
+        scales.push(1.0);
+        frames_of.push(1);
+        thickness_of.push(obscura::DEFAULT_THICKNESS);
+        guard_of.push(0);
+        samples_of.push((usize::MAX, 0));
     }
     let orbit_frames = counts.iter().copied().max().unwrap_or(1);
     Ok(Variants {

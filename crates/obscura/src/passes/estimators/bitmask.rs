@@ -217,14 +217,7 @@ pub fn bitmask_pixel_solids(
         let in_slice = |w: Vec3| Vec2::new(w.dot(ortho), w.dot(v));
         let mut occluded = 0u32;
         for s in 0..px.steps {
-            let ray = super::march_ray(
-                s,
-                px.steps,
-                pattern[2],
-                step_px,
-                px.lattice as f32,
-                px.march_exponent,
-            );
+            let ray = super::march_ray(s, px.steps, pattern[2], step_px, 1.0, px.march_exponent);
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
             if off == [0, 0] {
                 continue;

@@ -32,6 +32,16 @@ pub struct Pixels<'a> {
     pub second: &'a [f32],
 }
 
+/// [`Pixels::snap`] on a lattice of `lattice` pixels.
+fn snap_offset(v: [f32; 2], lattice: u32) -> [i32; 2] {
+    let near = (crate::passes::constants::NEAR_FIELD_CELLS * lattice) as f32;
+    if v[0] * v[0] + v[1] * v[1] < near * near {
+        return v.map(|c| c.round_ties_even() as i32);
+    }
+    let l = lattice as f32;
+    v.map(|c| (c / l).round_ties_even() as i32 * lattice as i32)
+}
+
 /// Where step `s` of `steps` (offset `j`) lands along a GTAO or bitmask direction on a
 /// lattice of `cell` pixels with march exponent `e`, pixels from the centre; mirrors
 /// `march_ray` in passes/common.wgsl.
@@ -95,10 +105,11 @@ impl Pixels<'_> {
         })
     }
 
-    /// `v` (pixels) snapped to the lattice, as WGSL's round() does (half to even).
+    /// `v` (pixels) as a whole-pixel offset, as WGSL's round() does (half to even): to the
+    /// pixel within [`NEAR_FIELD_CELLS`](crate::passes::constants::NEAR_FIELD_CELLS) cells
+    /// of the lattice, to the lattice beyond (`snap_offset` of the layouts' WGSL).
     pub(crate) fn snap(&self, v: [f32; 2]) -> [i32; 2] {
-        let l = self.lattice as f32;
-        v.map(|c| (c / l).round_ties_even() as i32 * self.lattice as i32)
+        snap_offset(v, self.lattice)
     }
 
     /// Linear depth at `q`, or `None` outside the viewport.
@@ -314,7 +325,8 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
                 px.steps,
                 pattern[2],
                 step_px,
-                px.lattice as f32,
+                // One pixel in every layout (the near field is at full resolution).
+                1.0,
                 px.march_exponent,
             );
             let off = px.snap([dir[0] * ray, dir[1] * ray]);
@@ -613,10 +625,16 @@ fn over_pixels<T>(
         moments: &moment_levels,
         second,
     };
+    let sector = crate::passes::shader::pattern_sector(options) as f32;
     let mut out = Vec::with_capacity(prepared.len());
     for y in 0..f.size[1] {
         for x in 0..f.size[0] {
-            let pattern = f.patterns[crate::passes::jitter::pattern_index(x, y, dim)];
+            let base = f.patterns[crate::passes::jitter::pattern_index(x, y, dim)];
+            let pattern = if n == 1 {
+                base
+            } else {
+                crate::passes::jitter::pixel_pattern(base, x as i32, y as i32, n, sector)
+            };
             out.push(pixel(&px, [x as i32, y as i32], pattern));
         }
     }
@@ -627,6 +645,28 @@ fn over_pixels<T>(
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
+
+    /// In the N×N layouts an offset within NEAR_FIELD_CELLS cells lands on its own pixel
+    /// (rounded), one beyond on the layer's lattice; full resolution rounds everywhere.
+    #[test]
+    fn the_near_field_is_sampled_at_full_resolution() {
+        use crate::passes::constants::NEAR_FIELD_CELLS;
+        for lattice in [2u32, 4] {
+            let edge = (NEAR_FIELD_CELLS * lattice) as f32;
+            assert_eq!(snap_offset([1.2, 0.0], lattice), [1, 0]);
+            assert_eq!(snap_offset([-0.6, 1.4], lattice), [-1, 1]);
+            let far = snap_offset([edge + 0.7, 1.2], lattice);
+            assert!(
+                far.iter().all(|c| c % lattice as i32 == 0),
+                "{lattice}: {far:?}"
+            );
+            assert_eq!(
+                snap_offset([edge - 0.6, 0.0], lattice)[0],
+                (edge - 0.6).round() as i32
+            );
+        }
+        assert_eq!(snap_offset([7.4, -3.6], 1), [7, -4]);
+    }
 
     /// The closed-form expectation of a chord's occupied length over depths uniform with a
     /// mean and variance against a midpoint-rule average over that interval (10⁵ points), on

@@ -11,6 +11,7 @@ mod prelude;
 
 pub use crate::passes::constants::*;
 use crate::{DepthDownsample, Estimator, Upsampler};
+pub(crate) use overrides::pattern_sector;
 pub(crate) use prelude::create_module;
 pub use prelude::{dispatch_size, prelude};
 

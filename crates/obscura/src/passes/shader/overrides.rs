@@ -116,11 +116,25 @@ impl Pass {
             } => [
                 &estimator[..],
                 &own(e)[..],
-                &[split, skip_band],
+                &[
+                    split,
+                    skip_band,
+                    ("PATTERN_SECTOR", pattern_sector(options)),
+                ],
                 &bent_constant(e, bent)[..],
             ]
             .concat(),
         }
+    }
+}
+
+/// The rotation sector a deinterleaved layer's pixels turn their pattern within
+/// (`jitter::pixel_pattern`): 0 without jitter, so every pixel takes the fixed pattern.
+pub(crate) fn pattern_sector(options: &crate::AoOptions) -> f64 {
+    if options.jitter {
+        crate::passes::jitter::rotation_sector(options.estimator, options.directions) as f64
+    } else {
+        0.0
     }
 }
 

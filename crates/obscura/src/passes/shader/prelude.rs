@@ -48,6 +48,9 @@ pub fn prelude() -> String {
          const PATTERN_DIM: u32 = {PATTERN_DIM}u;\n\
          const PATTERN_COUNT: u32 = {PATTERN_COUNT}u;\n\
          const GUARD_AO_MARGIN: u32 = {GUARD_AO_MARGIN}u;\n\
+         const NEAR_FIELD_CELLS: u32 = {NEAR_FIELD_CELLS}u;\n\
+         const IGN_WEIGHTS: vec3<f32> = vec3<f32>({});\n\
+         const IGN_SHIFT: f32 = {IGN_SHIFT:?};\n\
          const PLANE_TOLERANCE: f32 = {PLANE_TOLERANCE:?};\n\
          const DEPTH_RANGE_TOLERANCE: f32 = {DEPTH_RANGE_TOLERANCE:?};\n\
          const SPHERE_THICKNESS: f32 = {SPHERE_THICKNESS:?};\n\
@@ -71,6 +74,7 @@ pub fn prelude() -> String {
          const SSDO_SELF_TOLERANCE: f32 = {SSDO_SELF_TOLERANCE:?};\n\
          const SH9_SCALE: array<f32, 5> = array<f32, 5>({});\n\
          {}{}{}{}",
+        wgsl_floats(&IGN_WEIGHTS),
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),
         wgsl_floats(&LIT_RATIO_MAX),
