@@ -39,7 +39,7 @@ pub(super) struct Pictures<'a> {
     pub(super) truth: &'a [f32],
     pub(super) mask: &'a [bool],
     pub(super) scored: &'a [Scored],
-    pub(super) maps: &'a [(Vec<f32>, Option<&'a Vec<f32>>)],
+    pub(super) maps: &'a [(Vec<f32>, Option<&'a [f32]>)],
 }
 
 /// The range of the pattern error's heat map: a sampling pattern's streaks are a few

@@ -2,8 +2,8 @@
 //! is seen in both, after reprojecting the frame before the last, less what the truth itself
 //! changes between those frames (its view-dependent sampling of the same surfaces).
 
-use glam::{Mat4, Vec3, Vec4};
-use obscura_scene::{Camera, CameraProjection};
+use glam::Vec3;
+use obscura_scene::Camera;
 
 /// Relative depth difference within which a reprojected pixel is the same surface.
 const SAME_SURFACE: f32 = 0.01;
@@ -19,10 +19,7 @@ pub(super) fn reproject(
     (w, h): (u32, u32),
 ) -> Vec<(usize, usize)> {
     let aspect = w as f32 / h as f32;
-    let (proj, proj_prev) = (
-        current.projection_matrix(aspect),
-        previous.projection_matrix(aspect),
-    );
+    let proj_prev = previous.projection_matrix(aspect);
     let to_previous = previous.view_matrix() * current.view_matrix().inverse();
     let mut pairs = Vec::new();
     for (p, (&d, &m)) in depth_current.iter().zip(mask).enumerate() {
@@ -33,7 +30,7 @@ pub(super) fn reproject(
             ((p as u32 % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0,
             1.0 - ((p as u32 / w) as f32 + 0.5) / h as f32 * 2.0,
         ];
-        let view = view_position(current, &proj, ndc, d);
+        let view = view_position(current, aspect, ndc, d);
         let moved = to_previous * view.extend(1.0);
         let clip = proj_prev * moved;
         if clip.w <= 0.0 {
@@ -54,15 +51,13 @@ pub(super) fn reproject(
     pairs
 }
 
-/// The view-space point at normalized device coordinates `ndc` and linear depth `d`.
-fn view_position(cam: &Camera, proj: &Mat4, ndc: [f32; 2], d: f32) -> Vec3 {
-    // x_ndc = m00 x / w with w = d (perspective) or 1 (orthographic); likewise y.
-    let w = match cam.projection {
-        CameraProjection::Perspective { .. } => d,
-        CameraProjection::Orthographic { .. } => 1.0,
-    };
-    let m: Vec4 = proj.x_axis;
-    Vec3::new(ndc[0] * w / m.x, ndc[1] * w / proj.y_axis.y, -d)
+/// The view-space point at normalized device coordinates `ndc` and linear depth `d`
+/// (obscura's `Projection::ndc_to_view_scale`).
+fn view_position(cam: &Camera, aspect: f32, ndc: [f32; 2], d: f32) -> Vec3 {
+    let p = cam.obscura_projection(aspect);
+    let [sx, sy] = p.ndc_to_view_scale();
+    let k = if p.is_perspective() { d } else { 1.0 };
+    Vec3::new(ndc[0] * sx * k, ndc[1] * sy * k, -d)
 }
 
 /// Mean over `pairs` of |(AO(p) − AO'(q)) − (T(p) − T'(q))|: how much the estimate changes
@@ -85,6 +80,7 @@ pub(super) fn moving_flicker(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use obscura_scene::CameraProjection;
 
     /// A camera orbiting a plane facing it: every pixel of the current frame whose point the
     /// previous frame sees is paired with the pixel that sees it (checked by projecting the
@@ -128,12 +124,11 @@ mod tests {
         assert!(pairs.iter().any(|(p, q)| p != q));
         // Each pair's pixels see nearly the same world point: within a pixel's footprint.
         let world = |c: &Camera, d: &[f32], p: usize| {
-            let proj = c.projection_matrix(w as f32 / h as f32);
             let ndc = [
                 ((p as u32 % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0,
                 1.0 - ((p as u32 / w) as f32 + 0.5) / h as f32 * 2.0,
             ];
-            let v = view_position(c, &proj, ndc, d[p]);
+            let v = view_position(c, w as f32 / h as f32, ndc, d[p]);
             c.view_matrix().inverse().transform_point3(v)
         };
         let pixel = 2.0 * 5.0 * (25f32).to_radians().tan() / h as f32;

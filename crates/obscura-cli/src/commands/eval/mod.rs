@@ -614,7 +614,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 orbit_flicker: variant.and_then(|i| orbit_flicker.get(i).copied().flatten()),
                 bent: bent_of.get(name).copied(),
             });
-            maps.push((flip_map, screen));
+            maps.push((flip_map, screen.map(Vec::as_slice)));
         }
         for row in rows.iter().filter(|x| x.view == job.name) {
             eprintln!(
