@@ -30,7 +30,7 @@ def check_settings(
     depth_scale: Optional[float] = None,
     depth_noise: DepthNoise = None,
     thickness: Optional[float] = None,
-    estimator: str = "gtao",
+    estimator: Optional[str] = None,
     preset: str = "high",
     resolution: str = "full",
     denoise: str = "spatial",
@@ -56,7 +56,7 @@ def ambient_occlusion(
     depth_scale: Optional[float] = None,
     depth_noise: DepthNoise = None,
     thickness: Optional[float] = None,
-    estimator: str = "gtao",
+    estimator: Optional[str] = None,
     preset: str = "high",
     resolution: str = "full",
     denoise: str = "spatial",
@@ -81,7 +81,9 @@ def ambient_occlusion(
         only the front of each object: this assumes every object is that deep behind each
         pixel, along its ray, and the part of it within the radius occludes
         (docs/thickness.md). Other estimators ignore it.
-    estimator: "gtao", "hbao", "vo", "vao", "sao", "vo-area" or "bitmask".
+    estimator: "bitmask" (None, the default: the library's estimator for depth maps,
+        more accurate than GTAO from depth alone at about 1.25x its time), "gtao", "hbao",
+        "vo", "vao", "sao" or "vo-area".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel;
         high with GTAO or the bitmask at full or randomized half resolution: 30, three
         slices of five steps crowded toward the centre).
@@ -102,7 +104,7 @@ class Renderer:
     def __init__(
         self,
         *,
-        estimator: str = "gtao",
+        estimator: Optional[str] = None,
         preset: str = "high",
         resolution: str = "full",
         denoise: str = "spatial",

@@ -48,6 +48,20 @@ def centred(size=128):
     return dict(fx=float(size), fy=float(size), cx=(size - 1) / 2, cy=(size - 1) / 2)
 
 
+def test_depth_maps_take_the_bitmask_by_default():
+    """The package's default estimator is the library's for depth maps (the bitmask,
+    obscura::DEPTH_MAP_ESTIMATOR): a strip before a wall renders the same with
+    estimator="bitmask" and differently with "gtao", by function and by Renderer."""
+    d = plane(depth=2.0)
+    d[:, 60:66] = 1.8
+    k = dict(centred(), radius=0.4)
+    default = obscura.ambient_occlusion(d, **k)
+    assert np.array_equal(default, obscura.ambient_occlusion(d, **k, estimator="bitmask"))
+    gtao = obscura.ambient_occlusion(d, **k, estimator="gtao")
+    assert np.abs(default - gtao).max() > 0.01
+    assert np.array_equal(obscura.Renderer().render(d, **k), default)
+
+
 def test_a_plane_is_unoccluded_and_a_crease_darkens(renderer):
     k = centred()
     ao_plane = renderer.render(plane(), **k, radius=0.2)

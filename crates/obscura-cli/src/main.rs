@@ -11,7 +11,7 @@ mod views;
 
 use clap::parser::ValueSource;
 use clap::{CommandFactory, FromArgMatches, Subcommand};
-use commands::{bench, eval, lights, render};
+use commands::{bench, cost, eval, lights, render};
 use std::process::ExitCode;
 
 /// Screen-space ambient occlusion on any GPU wgpu reaches, or on the CPU through Mesa's
@@ -36,6 +36,10 @@ enum Command {
     /// Interleaved many-light shading against shading every light: virtual point lights
     /// on the built-in scene (or a scene file, or the shared views), time and error.
     Lights(lights::LightsArgs),
+    /// The cost model of a frame's passes, counted from the plan (no adapter): invocations,
+    /// texel fetches, special-function and other operations, bytes, and the time at an
+    /// H200's peaks and at lavapipe's measured rates.
+    Cost(cost::CostArgs),
 }
 
 fn main() -> ExitCode {
@@ -59,15 +63,23 @@ fn main() -> ExitCode {
             .collect()
     };
     match &mut cli.command {
-        Command::Render(a) => a.given = given("render"),
+        Command::Render(a) => {
+            a.given = given("render");
+            // A depth map alone takes the library's estimator for depth maps unless the
+            // command line names one.
+            if a.depth.is_some() && !a.given.contains("estimator") {
+                a.quality.estimator = options::EstimatorArg::of(obscura::DEPTH_MAP_ESTIMATOR);
+            }
+        }
         Command::Eval(a) => a.given = given("eval"),
-        Command::Bench(_) | Command::Lights(_) => {}
+        Command::Bench(_) | Command::Lights(_) | Command::Cost(_) => {}
     }
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Lights(args) => lights::run(&args),
+        Command::Cost(args) => cost::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -65,6 +65,18 @@ impl From<EstimatorArg> for Estimator {
     }
 }
 
+impl EstimatorArg {
+    /// The argument naming `e` (every estimator has one; the default's if none did).
+    pub fn of(e: Estimator) -> EstimatorArg {
+        use clap::ValueEnum;
+        EstimatorArg::value_variants()
+            .iter()
+            .copied()
+            .find(|&a| Estimator::from(a) == e)
+            .unwrap_or(EstimatorArg::Gtao)
+    }
+}
+
 /// Quality presets (see `obscura::Preset`): samples per pixel 8, 16, 32, 96.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PresetArg {
@@ -88,7 +100,8 @@ impl From<PresetArg> for Preset {
 /// The estimator and its sample counts, shared by `render` and `bench`.
 #[derive(Debug, Args)]
 pub struct QualityArgs {
-    /// AO estimator.
+    /// AO estimator. `render --depth` without this flag takes bitmask, the library's
+    /// estimator for depth maps (obscura::DEPTH_MAP_ESTIMATOR).
     #[arg(long, value_enum, default_value_t = EstimatorArg::Gtao)]
     pub estimator: EstimatorArg,
     #[command(flatten)]

@@ -919,6 +919,47 @@ fn eval_writes_report_json_and_caches_the_reference() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
+/// eval's default row is what the input's users get: GTAO with the renderer's normals, the
+/// depth-map estimator (the bitmask) with normals from the depth.
+#[test]
+fn eval_default_row_follows_the_input() {
+    let d = scratch("eval-default-input");
+    for (normals, estimator) in [("gbuffer", "gtao"), ("reconstruct", "bitmask")] {
+        let (report, json) = (d.join(normals), d.join(format!("{normals}.json")));
+        let args = [
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--rays",
+            "8",
+            "--runs",
+            "1",
+            "--no-screen-reference",
+            "--normals",
+            normals,
+        ];
+        let out = eval_cornell(&args, &report, Some(&json), &d.join("cache"));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let defaults: Vec<_> = v["records"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["default"] == true)
+            .collect();
+        assert_eq!(defaults.len(), 1, "{normals}");
+        assert_eq!(defaults[0]["variant"], "default");
+        assert_eq!(defaults[0]["estimator"], estimator, "{normals}");
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}
+
 /// Below full resolution a variant is compared with the full-resolution one of the same
 /// preset, although High's counts differ there (3 × 5 crowded at full resolution in the
 /// 2×2 layout, 4 × 4 even at half): its "RMSE vs full res" is a number; the

@@ -1,4 +1,4 @@
-//! Every flag of `render`, `eval`, `lights` and `bench`, run at least once at small sizes:
+//! Every flag of `render`, `eval`, `lights`, `bench` and `cost`, run at least once at small sizes:
 //! a flag that is accepted does its job (the output changes where it should, a file is
 //! written where it should), or it is refused with the reason (exit 1, or clap's 2 for a
 //! malformed argument) and no output is left. A flag added without a row here fails
@@ -242,6 +242,9 @@ fn render_rows() -> Vec<Row> {
         row(RENDER, "--msaa", Changes),
         row(RENDER, "--guard-band 16", Changes),
         row(&bitmask, "--second-layer", Changes),
+        // A depth map alone takes the bitmask (obscura::DEPTH_MAP_ESTIMATOR).
+        row(DEPTH, "--estimator bitmask", Same),
+        row(DEPTH, "--estimator gtao", Changes),
         row(DEPTH, "--depth-noise 0.05,0,0", Changes),
         row(DEPTH, "--normals-file {depth}/n.npy", Changes),
         row(&normals, "--normals-frame opengl", Changes),
@@ -507,6 +510,30 @@ fn bench_rows() -> Vec<Row> {
     ]
 }
 
+const COST: &str = "cost --width 64 --height 48 --json {d}/c.json";
+
+/// `cost`'s rows: each flag changes the table (no adapter runs).
+fn cost_rows() -> Vec<Row> {
+    use Expect::*;
+    let bitmask = format!("{COST} --estimator bitmask");
+    vec![
+        row(COST, "--width 32", Changes),
+        row(COST, "--height 32", Changes),
+        row(COST, "--mode randomized", Changes),
+        row(COST, "--estimator bitmask", Changes),
+        row(COST, "--preset low", Changes),
+        row(COST, "--directions 2", Changes),
+        row(COST, "--steps 2", Changes),
+        row(COST, "--resolution half", Changes),
+        row(COST, "--denoise none", Changes),
+        row(COST, "--march-exponent 1", Changes),
+        row(&bitmask, "--second-layer", Changes),
+        row(COST, "--second-layer", Refused("second_layer")),
+        row(COST, "--normals reconstruct", Changes),
+        row(COST, "--json {d}/no/c.json", Refused("does not exist")),
+    ]
+}
+
 /// The long flags a subcommand's `--help` lists.
 fn help_flags(sub: &str) -> BTreeSet<String> {
     let out = obscura(&[sub.to_string(), "--help".to_string()]);
@@ -539,6 +566,7 @@ fn every_flag_has_a_row() {
         ("eval", eval_rows(), &["score-images", "ssdo"][..]),
         ("lights", lights_rows(), &["width", "height", "out-dir"][..]),
         ("bench", bench_rows(), &[][..]),
+        ("cost", cost_rows(), &[][..]),
     ] {
         let have = named(&rows);
         let missing: Vec<String> = help_flags(sub)
@@ -566,8 +594,9 @@ fn every_eval_flag_works_or_is_refused() {
 }
 
 #[test]
-fn every_lights_and_bench_flag_works_or_is_refused() {
+fn every_lights_bench_and_cost_flag_works_or_is_refused() {
     let mut failed = check("lights", &lights_rows());
     failed.extend(check("bench", &bench_rows()));
+    failed.extend(check("cost", &cost_rows()));
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

@@ -1,6 +1,9 @@
 //! What one compute pass costs on this adapter, apart from the work of obscura's shaders:
 //! an empty dispatch over every pixel, then a store, one texel load and nine loads per
-//! pixel. Each is timed as 1 pass, as 4 passes, and as 4 dispatches in one pass.
+//! pixel, and one load with 1024 multiply-adds or 256 special-function operations (square
+//! roots and divisions) after it. Each is timed as 1 pass, as 4 passes, and as 4 dispatches
+//! in one pass; the rates per fetch and per operation that follow are the adapter's peaks
+//! in the cost model's roofline (obscura::frame::cost).
 //!
 //!     cargo run --release -p obscura --example dispatch_cost -- [WIDTHxHEIGHT]
 //!
@@ -47,6 +50,20 @@ fn nine_loads(width: u32, height: u32) -> String {
     }
     s + "textureStore(dst, p, a);"
 }
+
+/// One load, then `ops` operations per pixel in four independent lanes (a vec4), unrolled,
+/// stored: `op` maps `a` to its next value.
+fn arithmetic(ops: u32, op: &str) -> String {
+    let mut s = String::from("var a = textureLoad(src, p, 0);\n");
+    for _ in 0..ops / 4 {
+        s += &format!("a = {op};\n");
+    }
+    s + "textureStore(dst, p, a);"
+}
+
+/// Operations per pixel in the arithmetic probes.
+const ALU_OPS: u32 = 1024;
+const SPECIAL_OPS: u32 = 256;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -143,6 +160,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "textureStore(dst, p, textureLoad(src, p, 0));".into(),
         ),
         ("9 loads + store", nine_loads(width, height)),
+        (
+            "1 load, 1024 multiply-adds, store",
+            arithmetic(ALU_OPS, "fma(a, vec4<f32>(0.999), vec4<f32>(0.001))"),
+        ),
+        (
+            "1 load, 256 sqrt or divisions, store",
+            // Per lane: a square root, a division and two adds.
+            arithmetic(SPECIAL_OPS / 2, "sqrt(a) + 1.0 / (a + vec4<f32>(1.5))"),
+        ),
     ];
     let pipelines: Vec<(&str, wgpu::ComputePipeline)> = probes
         .iter()
@@ -201,16 +227,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("an empty submission: {:.3} ms", median(submit));
     println!("| round | probe | 1 pass, ms | 4 passes, ms | per extra pass, ms | 4 dispatches in 1 pass, ms |");
     println!("|---|---|---|---|---|---|");
+    let mut rates = Vec::new();
     for round in 1..=2 {
+        let mut per_pass = Vec::new();
         for (name, pipeline) in &pipelines {
             let one = time(pipeline, 1, true)?;
             let four = time(pipeline, 4, true)?;
             let fused = time(pipeline, 4, false)?;
+            per_pass.push((four - one) / 3.0);
             println!(
                 "| {round} | {name} | {one:.2} | {four:.2} | {:.2} | {fused:.2} |",
                 (four - one) / 3.0
             );
         }
+        // Per extra pass (no submission in it): the probes' differences from one load.
+        let pixels = width as f64 * height as f64;
+        let ns = |probe: usize| (per_pass[probe] - per_pass[2]) * 1e6 / pixels;
+        let alu = ns(4) / ALU_OPS as f64;
+        let special = (ns(5) - alu * SPECIAL_OPS as f64) / SPECIAL_OPS as f64;
+        rates.push((ns(3) / 8.0, alu, special));
+    }
+    for (round, (fetch, alu, special)) in rates.iter().enumerate() {
+        println!(
+            "round {}, per pixel of an extra pass: {fetch:.3} ns a fetch, {alu:.4} ns an \
+             operation, {special:.4} ns a special operation",
+            round + 1
+        );
     }
     Ok(())
 }

@@ -3,6 +3,7 @@
 //! `ssdo_shading`, `output`).
 
 pub mod bench;
+pub mod cost;
 pub mod eval;
 pub mod lights;
 pub mod render;

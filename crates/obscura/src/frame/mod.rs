@@ -4,6 +4,7 @@
 
 pub mod access;
 pub mod ao;
+pub mod cost;
 pub mod plan;
 #[cfg(test)]
 mod plan_tests;

@@ -335,6 +335,18 @@ impl EvalArgs {
     }
 
     /// Whether some `--frames` count accumulates (is above 1).
+    /// The library's default frame for this run's input: a depth map's user (normals
+    /// reconstructed from the depth) gets `DEPTH_MAP_ESTIMATOR`, a renderer's the default.
+    pub(super) fn default_frame(&self) -> obscura::AoOptions {
+        obscura::AoOptions {
+            estimator: match self.normal_source() {
+                NormalSource::Reconstruct => obscura::DEPTH_MAP_ESTIMATOR,
+                NormalSource::Gbuffer => obscura::Estimator::default(),
+            },
+            ..Default::default()
+        }
+    }
+
     pub(super) fn temporal_run(&self) -> bool {
         self.frames.iter().any(|&f| f > 1)
     }

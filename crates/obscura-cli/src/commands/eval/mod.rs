@@ -586,7 +586,7 @@ pub fn run(a: &EvalArgs) -> Result<()> {
                 });
             let flip_map = obscura_eval::flip::flip_map(img, r, &mask, w, h);
             let default = variant.is_some_and(|i| {
-                options.is_some_and(|o| o == AoOptions::default())
+                options.is_some_and(|o| o == a.default_frame())
                     && guard == 0
                     && scales[i] == 1.0
                     && thickness == obscura::DEFAULT_THICKNESS

@@ -13,7 +13,7 @@ pub(super) struct Row {
     pub(super) ssim: f32,
     /// Mean ꟻLIP against the truth (obscura_eval::flip).
     pub(super) flip: f32,
-    /// Whether this is the library's default frame (`AoOptions::default()`, no guard band,
+    /// Whether this is the library's default frame (`EvalArgs::default_frame`, no guard band,
     /// the default thickness, full scale, one frame).
     pub(super) default: bool,
     pub(super) band_rmse: f32,

@@ -8,8 +8,9 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use obscura::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
-/// The label of the library's default frame (`AoOptions::default()`), a row of every run
-/// whose command line picks no variant (`VARIANT_FLAGS`).
+/// The label of the library's default frame (`EvalArgs::default_frame`: `AoOptions::default()`,
+/// or the depth-map estimator with normals from the depth), a row of every run whose command
+/// line picks no variant (`VARIANT_FLAGS`).
 pub(super) const DEFAULT_LABEL: &str = "default";
 
 /// The flags that pick variants (clap's ids): with none of them given, eval adds the
@@ -287,7 +288,7 @@ pub(super) fn variant_list(a: &EvalArgs) -> Result<Variants> {
     }
     // With no flag that picks variants, the library's default frame too: what users get.
     if !VARIANT_FLAGS.iter().any(|f| a.given.contains(*f)) {
-        variants.push((DEFAULT_LABEL.into(), AoOptions::default()));
+        variants.push((DEFAULT_LABEL.into(), a.default_frame()));
         scales.push(1.0);
         frames_of.push(1);
         thickness_of.push(obscura::DEFAULT_THICKNESS);

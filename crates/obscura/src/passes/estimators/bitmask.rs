@@ -162,7 +162,10 @@ pub fn bitmask_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, 
             return [None, None];
         };
         let sd2 = (!px.second.is_empty())
-            .then(|| px.second[(q[1] * px.f.size[0] as i32 + q[0]) as usize])
+            .then(|| {
+                super::count_read();
+                px.second[(q[1] * px.f.size[0] as i32 + q[0]) as usize]
+            })
             .filter(|&sd2| sd2 > sd);
         [Some(solid(sd)), sd2.map(solid)]
     };

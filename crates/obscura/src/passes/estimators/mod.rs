@@ -92,9 +92,24 @@ pub(crate) struct Surface {
     pub(crate) pos: Vec3,
 }
 
+// Texel reads of the mirror, counted in tests: the cost model's fetch counts are checked
+// against them (frame/cost_tests.rs).
+#[cfg(test)]
+thread_local! {
+    pub(crate) static READS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// One texel read by the mirror (a `textureLoad` of the WGSL).
+#[inline]
+pub(crate) fn count_read() {
+    #[cfg(test)]
+    READS.with(|r| r.set(r.get() + 1));
+}
+
 impl Pixels<'_> {
     /// The surface at `p`, or `None` for sky (every estimator then returns 1).
     pub(crate) fn surface(&self, p: [i32; 2]) -> Option<Surface> {
+        count_read();
         let v = self.prepared[(p[1] * self.f.size[0] as i32 + p[0]) as usize];
         (v.x > 0.0).then(|| Surface {
             d: v.x,
@@ -115,8 +130,10 @@ impl Pixels<'_> {
     /// Linear depth at `q`, or `None` outside the viewport.
     pub(crate) fn depth_at(&self, q: [i32; 2]) -> Option<f32> {
         let (w, h) = (self.f.size[0] as i32, self.f.size[1] as i32);
-        (q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h)
-            .then(|| self.prepared[(q[1] * w + q[0]) as usize].x)
+        (q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h).then(|| {
+            count_read();
+            self.prepared[(q[1] * w + q[0]) as usize].x
+        })
     }
 }
 
