@@ -28,6 +28,24 @@
 //! 1/N² of them, and merges the tile back guided by geometry ([`lights`]).
 //!
 //! Every input is validated before any GPU work; errors are typed ([`Error`]).
+//!
+//! The wgpu it is built on is [`wgpu`] (re-exported): wgpu 30 by default, wgpu 29 with the
+//! feature `wgpu29` (for Bevy 0.19's device and encoders; exactly one of the two).
+
+// The wgpu major by feature (Cargo.toml): `wgpu` names it throughout the crate.
+/// The wgpu obscura is built on (wgpu 29): pass its devices, encoders and textures.
+#[cfg(all(feature = "wgpu29", not(feature = "wgpu30")))]
+pub extern crate wgpu29 as wgpu;
+#[cfg(not(any(feature = "wgpu29", feature = "wgpu30")))]
+compile_error!("obscura needs one wgpu: the feature `wgpu30` (the default) or `wgpu29`");
+#[cfg(all(feature = "wgpu29", feature = "wgpu30"))]
+compile_error!(
+    "obscura builds on one wgpu: `wgpu29` needs `default-features = false` (no `wgpu30`)"
+);
+
+/// The wgpu obscura is built on (wgpu 30): pass its devices, encoders and textures.
+#[cfg(feature = "wgpu30")]
+pub use wgpu;
 
 pub mod budget;
 pub mod depth;

@@ -379,10 +379,7 @@ impl GpuContext {
             .await
             .ok_or_else(|| Error::Gpu("buffer mapping lost".into()))?
             .map_err(|e| Error::Gpu(e.to_string()))?;
-        let data = slice
-            .get_mapped_range()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .to_vec();
+        let data = super::compat::mapped_bytes(&slice)?;
         buffer.unmap();
         Ok(data)
     }
@@ -452,10 +449,7 @@ impl GpuContext {
         rx.recv()
             .map_err(|e| Error::Gpu(e.to_string()))?
             .map_err(|e| Error::Gpu(e.to_string()))?;
-        let data = slice
-            .get_mapped_range()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .to_vec();
+        let data = super::compat::mapped_bytes(&slice)?;
         buffer.unmap();
         Ok(data)
     }
