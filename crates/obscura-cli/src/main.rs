@@ -70,6 +70,9 @@ fn main() -> ExitCode {
             if a.depth.is_some() && !a.given.contains("estimator") {
                 a.quality.estimator = options::EstimatorArg::of(obscura::DEPTH_MAP_ESTIMATOR);
             }
+            if a.layered {
+                render::apply_layered(a);
+            }
         }
         Command::Eval(a) => a.given = given("eval"),
         Command::Bench(_) | Command::Lights(_) | Command::Cost(_) => {}

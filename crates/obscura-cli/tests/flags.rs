@@ -194,6 +194,10 @@ fn render_rows() -> Vec<Row> {
     let hbao = format!("{RENDER} --estimator hbao");
     let sao = format!("{RENDER} --estimator sao");
     let bitmask = format!("{RENDER} --estimator bitmask");
+    let layered = format!(
+        "{RENDER} --estimator bitmask --second-layer --thickness 0.75 --directions 3 --steps 7 \
+         --march-exponent 1.3 --guard-band 16"
+    );
     let half = format!("{RENDER} --resolution half");
     let scaled = format!("{RENDER} --resolution scaled");
     let ortho = format!("{RENDER} --projection orthographic");
@@ -242,6 +246,10 @@ fn render_rows() -> Vec<Row> {
         row(RENDER, "--msaa", Changes),
         row(RENDER, "--guard-band 16", Changes),
         row(&bitmask, "--second-layer", Changes),
+        // --layered is its flag set (obscura::AoOptions::layered, its prior and band).
+        row(&layered, "--layered", Same),
+        row(RENDER, "--layered", Changes),
+        row(DEPTH, "--layered", Refused("cannot be used with")),
         // A depth map alone takes the bitmask (obscura::DEPTH_MAP_ESTIMATOR).
         row(DEPTH, "--estimator bitmask", Same),
         row(DEPTH, "--estimator gtao", Changes),

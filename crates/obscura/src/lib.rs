@@ -77,7 +77,8 @@ pub use noise::{NoiseBin, NoiseEstimate};
 pub use settings::{
     AoMode, AoOptions, AoParams, CameraMotion, Denoise, DepthDownsample, DepthNoise, Estimator,
     Preset, PyramidBuild, Resolution, Upsampler, DEFAULT_THICKNESS, DEPTH_MAP_ESTIMATOR,
-    EVEN_MARCH_EXPONENT, FINE_LATTICE_PX, HIGH_MARCH_EXPONENT, MIN_SCALE,
+    EVEN_MARCH_EXPONENT, FINE_LATTICE_PX, HIGH_MARCH_EXPONENT, LAYERED_GUARD_BAND,
+    LAYERED_THICKNESS, MIN_SCALE,
 };
 pub use shading::prepared::Prepared;
 pub use ssdo::{Ssdo, SsdoInputs, SsdoLighting, SsdoOptions};

@@ -9,7 +9,10 @@ pub use choices::{
     by_name, AoMode, Denoise, DepthDownsample, Estimator, PyramidBuild, Resolution, Upsampler,
 };
 pub use params::{AoParams, CameraMotion, DepthNoise, DEFAULT_THICKNESS, MIN_SCALE};
-pub use presets::{Preset, EVEN_MARCH_EXPONENT, FINE_LATTICE_PX, HIGH_MARCH_EXPONENT};
+pub use presets::{
+    Preset, EVEN_MARCH_EXPONENT, FINE_LATTICE_PX, HIGH_MARCH_EXPONENT, LAYERED_GUARD_BAND,
+    LAYERED_THICKNESS,
+};
 
 use crate::{Error, Result};
 

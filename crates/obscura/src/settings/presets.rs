@@ -55,7 +55,32 @@ pub const HIGH_MARCH_EXPONENT: f32 = 1.3;
 /// crowds its steps toward the centre ([`AoOptions::lattice_px`]).
 pub const FINE_LATTICE_PX: f32 = 2.0;
 
+/// [`AoOptions::layered`]'s thickness prior ([`crate::AoParams::thickness`], times the
+/// radius): thinner than the one-layer default, since the layer behind stands for what the
+/// prior stood for alone (docs/thickness.md).
+pub const LAYERED_THICKNESS: f32 = 0.75;
+
+/// [`AoOptions::layered`]'s guard band in pixels on each side ([`crate::AoInput::guard_band`]).
+pub const LAYERED_GUARD_BAND: u32 = 16;
+
 impl AoOptions {
+    /// The setting for a renderer that peels a second depth layer and draws a guard band
+    /// around its image (`obscura render --layered`): the bitmask estimator reading the
+    /// layer ([`AoOptions::second_layer`]), 3 slices × 7 steps at [`HIGH_MARCH_EXPONENT`],
+    /// in the default layout; give it [`LAYERED_THICKNESS`] and a [`LAYERED_GUARD_BAND`]-pixel
+    /// band. The most accurate single frame on the shared views (BENCHMARKS.md, "The
+    /// README's settings").
+    pub fn layered() -> Self {
+        Self {
+            estimator: Estimator::Bitmask,
+            directions: 3,
+            steps: 7,
+            march_exponent: HIGH_MARCH_EXPONENT,
+            second_layer: true,
+            ..Self::default()
+        }
+    }
+
     /// The options of `preset` for `estimator` in the default layout and resolution (2×2
     /// layers, full resolution, fused); see [`Preset`]. For another layout or resolution,
     /// set them and then [`AoOptions::with_preset`].
@@ -108,6 +133,20 @@ impl AoOptions {
 mod tests {
     use super::*;
     use crate::AoMode;
+
+    /// The layered setting and its prior validate, and it reads a second layer with the
+    /// bitmask (the one estimator that reads one).
+    #[test]
+    fn the_layered_setting_validates_and_reads_a_second_layer() {
+        let o = AoOptions::layered();
+        o.validate().unwrap();
+        assert!(o.second_layer && o.estimator == Estimator::Bitmask);
+        let params = crate::AoParams {
+            thickness: LAYERED_THICKNESS,
+            ..Default::default()
+        };
+        params.validate().unwrap();
+    }
 
     #[test]
     fn presets_cost_the_documented_samples_with_every_estimator() {

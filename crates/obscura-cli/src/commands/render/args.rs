@@ -128,6 +128,15 @@ pub struct RenderArgs {
         conflicts_with_all = ["depth", "msaa", "orbit", "ssdo"]
     )]
     pub second_layer: bool,
+    /// The setting for a renderer that peels a second layer and draws a guard band
+    /// (`obscura::AoOptions::layered`): `--estimator bitmask --second-layer --thickness 0.75
+    /// --directions 3 --steps 7 --march-exponent 1.3 --guard-band 16`, each of them still
+    /// yours to give.
+    #[arg(
+        long,
+        conflicts_with_all = ["depth", "msaa", "orbit", "ssdo", "depth_out", "normals_out", "bent_normals_out"]
+    )]
+    pub layered: bool,
     /// A captured depth map instead of a scene: 16-bit PNG or uint16 .npy (units set by the
     /// intrinsics' depth_scale, default millimetres), or float EXR / float16/32/64 .npy (scene
     /// units already: depth_scale is not applied), C or Fortran order. 0, NaN and infinite
@@ -255,6 +264,31 @@ fn parse_bits(s: &str) -> Result<u8, String> {
         "8" => Ok(8),
         "16" => Ok(16),
         _ => Err(format!("expected 8 or 16, got `{s}`")),
+    }
+}
+
+/// `--layered`: `obscura::AoOptions::layered` and its prior and band, for each of its
+/// flags the command line did not give (`a.given`). Samples only where no --preset,
+/// --directions or --steps was given.
+pub fn apply_layered(a: &mut RenderArgs) {
+    let o = AoOptions::layered();
+    let given = |id: &str| a.given.contains(id);
+    if !given("estimator") {
+        a.quality.estimator = crate::options::EstimatorArg::of(o.estimator);
+    }
+    a.second_layer = true;
+    if !given("thickness") {
+        a.thickness = obscura::LAYERED_THICKNESS;
+    }
+    if !(given("preset") || given("directions") || given("steps")) {
+        a.quality.samples.directions = Some(o.directions);
+        a.quality.samples.steps = Some(o.steps);
+    }
+    if !given("march_exponent") {
+        a.march_exponent = Some(o.march_exponent);
+    }
+    if !given("guard_band") {
+        a.guard_band = obscura::LAYERED_GUARD_BAND;
     }
 }
 

@@ -10,7 +10,7 @@ mod prepared;
 mod record;
 mod scene;
 
-pub use args::RenderArgs;
+pub use args::{apply_layered, RenderArgs};
 
 /// `obscura render`: the arguments checked, then a depth map (`--depth` with
 /// `--intrinsics`) or a scene.
