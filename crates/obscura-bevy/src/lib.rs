@@ -27,6 +27,7 @@
 use bevy::core_pipeline::core_3d::main_opaque_pass_3d;
 use bevy::core_pipeline::prepass::ViewPrepassTextures;
 use bevy::core_pipeline::schedule::{Core3d, Core3dSystems};
+use bevy::ecs::query::Has;
 use bevy::log::error_once;
 use bevy::pbr::{
     ScreenSpaceAmbientOcclusion, ScreenSpaceAmbientOcclusionResources, SsaoBindGroups,
@@ -133,14 +134,19 @@ impl Plugin for ObscuraPlugin {
 }
 
 /// Bevy's SSAO pass runs only for views with its bind groups: without them its system
-/// skips the view, and the texture it would have written is obscura's to fill.
+/// skips the view, and the texture it would have written is obscura's to fill. The state
+/// of views that no longer carry [`ObscuraAo`] is dropped.
 fn skip_bevy_ssao(
     mut commands: Commands,
-    views: Query<Entity, (With<ObscuraAo>, With<SsaoBindGroups>)>,
+    views: Query<(Entity, Has<SsaoBindGroups>), With<ObscuraAo>>,
+    mut state: ResMut<ObscuraViews>,
 ) {
-    for view in &views {
-        commands.entity(view).remove::<SsaoBindGroups>();
+    for (view, ssao) in &views {
+        if ssao {
+            commands.entity(view).remove::<SsaoBindGroups>();
+        }
     }
+    state.views.retain(|view, _| views.contains(*view));
 }
 
 /// obscura's AO of the last frame of render-world view `view` (`R32Float`, the view's size,
