@@ -45,6 +45,9 @@ if CARGO_TARGET_DIR=$out/bevy-target cargo build --release --locked \
   for q in $qualities; do
     dirs+=("$out/bevy-$q")
   done
+  for p in $qualities; do
+    dirs+=("$out/obscura-bevy-$p")
+  done
 else
   echo "peers: Bevy's SSAO could not be built (the error is above); the table goes on without it" >&2
   bevy=
@@ -57,12 +60,13 @@ for r in $(seq 1 "$rounds"); do
       --times "times-r$r.json"
   done
   if [ -n "$bevy" ] && ! "$bevy" "$out/views.json" "$out" --qualities "${qualities// /,}" \
+      --obscura "${qualities// /,}" \
       --times "times-r$r.json"; then
     echo "peers: Bevy's SSAO failed to run (the error is above); the table goes on without it" >&2
     bevy=
     kept=()
     for d in "${dirs[@]}"; do
-      case $d in */bevy-*) ;; *) kept+=("$d") ;; esac
+      case $d in */bevy-*|*/obscura-bevy-*) ;; *) kept+=("$d") ;; esac
     done
     dirs=("${kept[@]}")
   fi

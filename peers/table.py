@@ -11,7 +11,8 @@ JSON's (every round scores the same images). Each round's ratio of each peer's d
 (VTK's kernel 32, Bevy's high) to obscura's default follows the table.
 
 A peer's folder name says what it is: `vtk-kN` (vtkSSAOPass, kernel N), `bevy-QUALITY`
-(Bevy's ScreenSpaceAmbientOcclusion at that quality level).
+(Bevy's ScreenSpaceAmbientOcclusion at that quality level), `obscura-bevy-PRESET` (obscura
+through its Bevy plugin at that preset, in the same app as Bevy's SSAO).
 """
 
 import json
@@ -28,6 +29,8 @@ PEER_DEFAULTS = {"vtk-k32": "VTK kernel 32", "bevy-high": "Bevy high"}
 
 def peer_name(d):
     """The table's name of a peer folder (see the module's text)."""
+    if d.name.startswith("obscura-bevy-"):
+        return f"obscura in Bevy (plugin), {d.name.removeprefix('obscura-bevy-')}"
     kind, _, setting = d.name.partition("-")
     if kind == "vtk":
         return f"VTK vtkSSAOPass, kernel {setting.removeprefix('k')}"

@@ -25,17 +25,27 @@ pub const ALBEDO: f32 = 0.001;
 /// the first is complete), ambient light alone, a black clear colour.
 pub fn app() -> App {
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(RenderPlugin {
+    let plugins = DefaultPlugins.set(RenderPlugin {
         synchronous_pipeline_compilation: true,
         ..default()
-    }))
-    .add_plugins(ObscuraPlugin)
-    .insert_resource(GlobalAmbientLight {
-        color: Color::WHITE,
-        brightness: 500.0 / ALBEDO,
-        ..default()
-    })
-    .insert_resource(ClearColor(Color::BLACK));
+    });
+    // With the viewer's window features on, still no window and no event loop.
+    #[cfg(feature = "viewer")]
+    let plugins = plugins
+        .set(bevy::window::WindowPlugin {
+            primary_window: None,
+            exit_condition: bevy::window::ExitCondition::DontExit,
+            ..default()
+        })
+        .disable::<bevy::winit::WinitPlugin>();
+    app.add_plugins(plugins)
+        .add_plugins(ObscuraPlugin)
+        .insert_resource(GlobalAmbientLight {
+            color: Color::WHITE,
+            brightness: 500.0 / ALBEDO,
+            ..default()
+        })
+        .insert_resource(ClearColor(Color::BLACK));
     app.finish();
     app.cleanup();
     app

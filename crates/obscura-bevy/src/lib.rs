@@ -33,6 +33,7 @@ use bevy::pbr::{
     ScreenSpaceAmbientOcclusion, ScreenSpaceAmbientOcclusionResources, SsaoBindGroups,
 };
 use bevy::prelude::*;
+use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::extract_component::{ExtractComponent, ExtractComponentPlugin};
 use bevy::render::renderer::{
     RenderContext, RenderDevice, RenderGraph, RenderGraphSystems, RenderQueue, ViewQuery,
@@ -68,6 +69,9 @@ pub struct ObscuraAo {
     pub thickness: f32,
     /// Read the prepass's normals (the default); `false` reconstructs them from the depth.
     pub prepass_normals: bool,
+    /// Temporal accumulation: at most this many frames of history, reprojected with the
+    /// camera's motion between frames (0 = off, obscura's default; else 2..=256).
+    pub history: u32,
 }
 
 impl Default for ObscuraAo {
@@ -82,6 +86,7 @@ impl Default for ObscuraAo {
             denoise: o.denoise,
             thickness: obscura::DEFAULT_THICKNESS,
             prepass_normals: true,
+            history: o.history,
         }
     }
 }
@@ -94,6 +99,7 @@ impl ObscuraAo {
             mode: self.mode,
             resolution: self.resolution,
             denoise: self.denoise,
+            history: self.history,
             ..Default::default()
         }
         .with_preset(self.preset)
@@ -161,10 +167,12 @@ pub fn ao_texture(render_world: &World, view: Entity) -> Option<&wgpu::Texture> 
         .output()
 }
 
-/// Per camera: obscura's passes for its options.
+/// Per camera: obscura's passes for its options, and the view matrix of its last frame
+/// (for the temporal history's reprojection).
 struct ViewAo {
     options: obscura::AoOptions,
     ao: obscura::Ao,
+    view_from_world: Option<Mat4>,
 }
 
 /// The render world's obscura state: one [`ViewAo`] per camera, and the copy pipelines by
@@ -270,7 +278,13 @@ fn obscura_pass(
         Some(v) if v.options == options => v,
         _ => match obscura::Ao::new(device, options) {
             Ok(ao) => {
-                state.views.insert(entity, ViewAo { options, ao });
+                let view_from_world = None;
+                let view = ViewAo {
+                    options,
+                    ao,
+                    view_from_world,
+                };
+                state.views.insert(entity, view);
                 state.views.get_mut(&entity).expect("inserted")
             }
             Err(e) => {
@@ -289,6 +303,17 @@ fn obscura_pass(
             error_once!("obscura: {e}");
             return;
         }
+    };
+    let world_from_view = extracted.world_from_view.to_matrix();
+    let camera_view_from_world = world_from_view.inverse();
+    // The camera's motion since the last frame, as obscura's history reprojects it:
+    // previous view-from-world times this frame's world-from-view.
+    let motion = match view_ao.view_from_world.replace(camera_view_from_world) {
+        None => obscura::CameraMotion::Cut,
+        Some(previous) if previous == camera_view_from_world => obscura::CameraMotion::Still,
+        Some(previous) => obscura::CameraMotion::Moved {
+            previous_from_current: (previous * world_from_view).to_cols_array_2d(),
+        },
     };
     let view_from_world =
         Mat3::from_quat(extracted.world_from_view.rotation().inverse()).to_cols_array_2d();
@@ -310,29 +335,49 @@ fn obscura_pass(
         second_layer: None,
         output: None,
     };
+    // Bevy's GPU timestamps around obscura's passes and the copy, as around its own SSAO:
+    // `render/obscura/elapsed_gpu` with its `RenderDiagnosticsPlugin`.
+    let diagnostics = ctx.diagnostic_recorder();
+    let diagnostics = diagnostics.as_deref();
+    let span = diagnostics.time_span(ctx.command_encoder(), "obscura");
     let encoder = ctx.command_encoder();
-    if let Err(e) = view_ao
+    let written = view_ao
         .ao
-        .record(device, queue, encoder, &input, &settings.params())
-    {
+        .record(
+            device,
+            queue,
+            encoder,
+            &input,
+            &obscura::AoParams {
+                motion,
+                ..settings.params()
+            },
+        )
+        .map_err(|e| e.to_string())
+        .and_then(|()| {
+            let ao = view_ao.ao.output_view().ok_or("no output")?;
+            copy_into(device, encoder, &mut state.copies, ao, target)
+        });
+    span.end(ctx.command_encoder());
+    if let Err(e) = written {
         error_once!("obscura: {e}");
-        return;
     }
-    let Some(ao) = view_ao.ao.output_view() else {
-        return;
-    };
+}
+
+/// Copies obscura's AO (`ao`) into Bevy's AO texture (`target`).
+fn copy_into(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    copies: &mut HashMap<wgpu::TextureFormat, (wgpu::BindGroupLayout, wgpu::ComputePipeline)>,
+    ao: &wgpu::TextureView,
+    target: &bevy::render::texture::CachedTexture,
+) -> Result<(), String> {
     let format = target.texture.format();
-    let (layout, pipeline) = match state.copies.entry(format) {
+    let (layout, pipeline) = match copies.entry(format) {
         Entry::Occupied(e) => e.into_mut(),
-        Entry::Vacant(v) => match copy_pipeline(device, format) {
-            Some(copy) => v.insert(copy),
-            None => {
-                error_once!(
-                    "obscura: Bevy's AO texture is {format:?}; expected R16Float or R32Float"
-                );
-                return;
-            }
-        },
+        Entry::Vacant(v) => v.insert(copy_pipeline(device, format).ok_or(format!(
+            "Bevy's AO texture is {format:?}; expected R16Float or R32Float"
+        ))?),
     };
     let dst: &wgpu::TextureView = &target.default_view;
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -357,4 +402,5 @@ fn obscura_pass(
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, &bind, &[]);
     pass.dispatch_workgroups(size.width.div_ceil(8), size.height.div_ceil(8), 1);
+    Ok(())
 }

@@ -3,7 +3,9 @@
 //! floor and a narrow gap between two blocks — every classic AO situation (creases,
 //! contact shadows, concave corners, thin gaps, curved occluders). Units: metres, +Y up.
 
-use crate::{Camera, CameraProjection, Mesh};
+use crate::Mesh;
+#[cfg(feature = "gpu")]
+use crate::{Camera, CameraProjection};
 use glam::{Mat4, Vec3};
 use std::f32::consts::PI;
 
@@ -153,6 +155,7 @@ pub fn mesh() -> Mesh {
 }
 
 /// The default scene's camera: from the front right, looking into the courtyard.
+#[cfg(feature = "gpu")]
 pub fn camera() -> Camera {
     Camera {
         eye: Vec3::new(6.5, 3.4, 8.0),

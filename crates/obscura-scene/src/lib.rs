@@ -2,13 +2,17 @@
 //! camera, a built-in default scene, and G-buffer rasterization (reversed-Z Depth32Float
 //! depth plus view-space normals). Not needed by engines that bring their own depth buffer.
 
+#[cfg(feature = "gpu")]
 pub mod camera;
 pub mod default_scene;
+#[cfg(feature = "gpu")]
 pub mod gbuffer;
 mod load;
 pub mod mesh;
 
+#[cfg(feature = "gpu")]
 pub use camera::{Camera, CameraProjection, DEPTH_CONVENTION, SKY_DEPTH};
+#[cfg(feature = "gpu")]
 pub use gbuffer::{DepthLayer, GBuffer, GBufferRenderer, GpuMesh, MsaaDepth, ALBEDO_FORMAT};
 pub use mesh::{Aabb, Mesh, DEFAULT_ALBEDO};
 
@@ -31,6 +35,7 @@ pub enum SceneError {
     Empty(String),
     #[error("invalid camera: {0}")]
     Camera(String),
+    #[cfg(feature = "gpu")]
     #[error(transparent)]
     Gpu(#[from] obscura::Error),
 }

@@ -1,9 +1,10 @@
-//! Bevy's SSAO (`ScreenSpaceAmbientOcclusion`) on obscura's shared views, for
-//! `obscura eval --score-images`.
+//! Bevy's SSAO (`ScreenSpaceAmbientOcclusion`) and obscura through its Bevy plugin
+//! (`obscura_bevy::ObscuraAo`) in one app, on the same prepasses and frames of obscura's
+//! shared views, for `obscura eval --score-images`.
 //!
 //! ```sh
-//! obscura-peer-bevy VIEWS_JSON OUT_ROOT [--qualities low,medium,high,ultra] [--runs 5]
-//!                   [--times times.json]
+//! obscura-peer-bevy VIEWS_JSON OUT_ROOT [--qualities low,medium,high,ultra]
+//!                   [--obscura low,medium,high,ultra|none] [--runs 5] [--times times.json]
 //! ```
 //!
 //! VIEWS_JSON comes from `obscura eval --all --export-views` (each view's scene, camera and
@@ -15,8 +16,11 @@
 //! (Jimenez et al. 2016, "Practical Realtime Strategies for Accurate Indirect Occlusion",
 //! ssao_utils.wgsl): at white, a visibility of 0.5 is shown as 0.90. The ray-traced truth is
 //! visibility without bounces, so the surfaces are nearly black ([`ALBEDO`]), where the fit
-//! is the identity to within 1e-5, and the ambient light is bright in proportion. Writes `OUT_ROOT/bevy-QUALITY/VIEW.png`
-//! (16-bit grey, white = unoccluded) and the timing (`--times`, beside the images).
+//! is the identity to within 1e-5, and the ambient light is bright in proportion. Writes
+//! `OUT_ROOT/bevy-QUALITY/VIEW.png` and `OUT_ROOT/obscura-bevy-PRESET/VIEW.png` (16-bit
+//! grey, white = unoccluded) and the timing (`--times`, beside the images). obscura's AO
+//! reaches the frame the way Bevy's does (the plugin writes Bevy's AO texture), so the same
+//! ratio of frames is obscura's AO as the lighting sees it.
 //!
 //! **Radius.** Bevy's SSAO has no radius setting: its shader fixes it at 0.5 × 1.457 world
 //! units (XeGTAO's default radius and multiplier). Each view's world (mesh and camera) is
@@ -25,8 +29,9 @@
 //! 0.34 × the radius on every view.
 //!
 //! **Time.** Bevy's own GPU timestamps around its SSAO (`render/ssao/elapsed_gpu` of its
-//! `RenderDiagnosticsPlugin`: the depth mips, the AO and the spatial denoiser), the median
-//! over the frames with SSAO. Beside it, as a check, the median wall time of a frame
+//! `RenderDiagnosticsPlugin`: the depth mips, the AO and the spatial denoiser) and around
+//! obscura's passes (`render/obscura/elapsed_gpu`: every pass of its frame and the copy
+//! into Bevy's texture), the median over the frames with AO. Beside it, as a check, the median wall time of a frame
 //! (`App::update` and a wait on the device) with SSAO minus that of one without it,
 //! alternated after a warm-up; both keep the depth and normal prepasses that Bevy's SSAO
 //! needs, and the prepasses' own wall cost is recorded apart. Where the adapter has no
@@ -55,6 +60,7 @@ use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::texture::GpuImage;
 use bevy::render::view::Msaa;
 use bevy::render::{RenderApp, RenderPlugin};
+use obscura_bevy::{obscura, ObscuraAo, ObscuraPlugin};
 
 /// The AO radius Bevy's shader fixes, in world units (ssao.wgsl: `effect_radius`).
 const BEVY_RADIUS: f32 = 0.5 * 1.457;
@@ -93,6 +99,7 @@ struct Args {
     views: PathBuf,
     out: PathBuf,
     qualities: Vec<String>,
+    presets: Vec<String>,
     runs: usize,
     times: String,
 }
@@ -110,6 +117,7 @@ fn main() -> ExitCode {
 fn parse_args() -> Result<Args, String> {
     let mut positional = Vec::new();
     let mut qualities = "low,medium,high,ultra".to_string();
+    let mut presets = "low,medium,high,ultra".to_string();
     let mut runs = 5usize;
     let mut times = "times.json".to_string();
     let mut it = std::env::args().skip(1);
@@ -117,6 +125,7 @@ fn parse_args() -> Result<Args, String> {
         let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value"));
         match a.as_str() {
             "--qualities" => qualities = value("--qualities")?,
+            "--obscura" => presets = value("--obscura")?,
             "--runs" => {
                 runs = value("--runs")?
                     .parse()
@@ -127,7 +136,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "--times" => times = value("--times")?,
             "-h" | "--help" => {
-                println!("obscura-peer-bevy VIEWS_JSON OUT_ROOT [--qualities low,medium,high,ultra] [--runs 5] [--times times.json]");
+                println!("obscura-peer-bevy VIEWS_JSON OUT_ROOT [--qualities low,medium,high,ultra] [--obscura low,medium,high,ultra|none] [--runs 5] [--times times.json]");
                 std::process::exit(0);
             }
             s if s.starts_with("--") => return Err(format!("unknown option {s}")),
@@ -141,10 +150,18 @@ fn parse_args() -> Result<Args, String> {
     for q in &qualities {
         quality(q)?;
     }
+    let presets: Vec<String> = match presets.as_str() {
+        "none" => Vec::new(),
+        p => p.split(',').map(str::to_string).collect(),
+    };
+    for p in &presets {
+        preset(p)?;
+    }
     Ok(Args {
         views,
         out,
         qualities,
+        presets,
         runs,
         times,
     })
@@ -163,6 +180,50 @@ fn quality(name: &str) -> Result<ScreenSpaceAmbientOcclusionQualityLevel, String
             ))
         }
     })
+}
+
+fn preset(name: &str) -> Result<obscura::Preset, String> {
+    use obscura::Preset as P;
+    Ok(match name {
+        "low" => P::Low,
+        "medium" => P::Medium,
+        "high" => P::High,
+        "ultra" => P::Ultra,
+        _ => {
+            return Err(format!(
+                "unknown obscura preset `{name}` (low, medium, high, ultra, or none)"
+            ))
+        }
+    })
+}
+
+/// One AO on the camera: Bevy's SSAO at a quality, or obscura's plugin at a preset.
+#[derive(Clone)]
+enum Variant {
+    Bevy(ScreenSpaceAmbientOcclusion),
+    Obscura(ObscuraAo),
+}
+
+impl Variant {
+    /// Bevy's diagnostic path of the variant's GPU time span.
+    fn gpu_path(&self) -> &'static str {
+        match self {
+            Variant::Bevy(_) => "render/ssao/elapsed_gpu",
+            Variant::Obscura(_) => "render/obscura/elapsed_gpu",
+        }
+    }
+
+    fn insert(&self, camera: &mut EntityWorldMut) {
+        match self {
+            Variant::Bevy(s) => camera.insert(s.clone()),
+            Variant::Obscura(o) => camera.insert(o.clone()),
+        };
+    }
+
+    /// Takes any AO off the camera (`ObscuraAo` requires Bevy's component: both go).
+    fn remove(camera: &mut EntityWorldMut) {
+        camera.remove::<(ObscuraAo, ScreenSpaceAmbientOcclusion)>();
+    }
 }
 
 fn read_views(path: &Path) -> Result<Vec<View>, String> {
@@ -284,9 +345,9 @@ fn read_target(app: &mut App, image: &Handle<Image>, width: u32, height: u32) ->
     out
 }
 
-/// Bevy's GPU time of its SSAO passes in each frame since the last call, in ms.
-fn ssao_gpu_ms(app: &mut App) -> Vec<f64> {
-    let path = DiagnosticPath::new("render/ssao/elapsed_gpu");
+/// The GPU time of a diagnostic span (`path`) in each frame since the last call, in ms.
+fn gpu_ms(app: &mut App, path: &'static str) -> Vec<f64> {
+    let path = DiagnosticPath::new(path);
     let mut store = app.world_mut().resource_mut::<DiagnosticsStore>();
     let Some(d) = store.get_mut(&path) else {
         return Vec::new();
@@ -343,11 +404,31 @@ fn run() -> Result<(), String> {
             return Err(format!("view {}: bad radius, clip planes or size", v.name));
         }
     }
-    let dirs: Vec<PathBuf> = args
-        .qualities
-        .iter()
-        .map(|q| args.out.join(format!("bevy-{q}")))
-        .collect();
+    // Bevy's qualities, then obscura's presets: (folder, AO, label for the log and JSON).
+    let mut variants: Vec<(PathBuf, Variant, String)> = Vec::new();
+    for q in &args.qualities {
+        let ssao = ScreenSpaceAmbientOcclusion {
+            quality_level: quality(q)?,
+            ..default()
+        };
+        variants.push((
+            args.out.join(format!("bevy-{q}")),
+            Variant::Bevy(ssao),
+            q.clone(),
+        ));
+    }
+    for p in &args.presets {
+        // The world is scaled so that Bevy's fixed radius is the view's: obscura's is the
+        // same number of world units. Every other setting is obscura's default.
+        let ao = ObscuraAo {
+            radius: BEVY_RADIUS,
+            preset: preset(p)?,
+            ..default()
+        };
+        let dir = args.out.join(format!("obscura-bevy-{p}"));
+        variants.push((dir, Variant::Obscura(ao), format!("obscura {p}")));
+    }
+    let dirs: Vec<PathBuf> = variants.iter().map(|v| v.0.clone()).collect();
     for d in &dirs {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
@@ -357,7 +438,7 @@ fn run() -> Result<(), String> {
         synchronous_pipeline_compilation: true,
         ..default()
     }))
-    .add_plugins(RenderDiagnosticsPlugin)
+    .add_plugins((RenderDiagnosticsPlugin, ObscuraPlugin))
     .insert_resource(GlobalAmbientLight {
         color: Color::WHITE,
         brightness: AMBIENT,
@@ -462,26 +543,22 @@ fn run() -> Result<(), String> {
             .insert((DepthPrepass, NormalPrepass));
         let prepass_ms = median(with_prepass) - median(without_prepass);
 
-        for (qi, q) in args.qualities.iter().enumerate() {
-            let ssao = ScreenSpaceAmbientOcclusion {
-                quality_level: quality(q)?,
-                ..default()
-            };
+        for (qi, (_, variant, q)) in variants.iter().enumerate() {
             let mut on = Vec::new();
             let mut off = Vec::new();
-            // Bevy's timings reach its store a frame or two late: settle with this quality,
+            // Bevy's timings reach its store a frame or two late: settle with this variant,
             // then drop what came before.
-            app.world_mut().entity_mut(camera).insert(ssao.clone());
+            variant.insert(&mut app.world_mut().entity_mut(camera));
             frame(&mut app);
             frame(&mut app);
-            ssao_gpu_ms(&mut app);
+            gpu_ms(&mut app, variant.gpu_path());
             for run in 0..args.runs + 2 {
                 for with in [false, true] {
                     let mut e = app.world_mut().entity_mut(camera);
                     if with {
-                        e.insert(ssao.clone());
+                        variant.insert(&mut e);
                     } else {
-                        e.remove::<ScreenSpaceAmbientOcclusion>();
+                        Variant::remove(&mut e);
                     }
                     // A frame to settle the change (pipelines, textures), then the timed one.
                     frame(&mut app);
@@ -495,7 +572,7 @@ fn run() -> Result<(), String> {
             let occluded = read_target(&mut app, &target, v.width, v.height);
             frame(&mut app);
             frame(&mut app);
-            let gpu = ssao_gpu_ms(&mut app);
+            let gpu = gpu_ms(&mut app, variant.gpu_path());
             let ao: Vec<f32> = occluded
                 .iter()
                 .zip(&plain)
@@ -512,7 +589,7 @@ fn run() -> Result<(), String> {
                 &ao,
             )?;
             eprintln!(
-                "{} {q}: SSAO {} ms on the GPU over {} frames; wall: frame {on_ms:.1} ms, without {off_ms:.1}, prepasses {prepass_ms:.1}",
+                "{} {q}: AO {} ms on the GPU over {} frames; wall: frame {on_ms:.1} ms, without {off_ms:.1}, prepasses {prepass_ms:.1}",
                 v.name,
                 gpu_ms.map_or("(no timestamps)".into(), |g| format!("{g:.1}")),
                 gpu_frames
@@ -529,9 +606,7 @@ fn run() -> Result<(), String> {
                     "near_clipped_pixels": clipped,
                 }),
             );
-            app.world_mut()
-                .entity_mut(camera)
-                .remove::<ScreenSpaceAmbientOcclusion>();
+            Variant::remove(&mut app.world_mut().entity_mut(camera));
         }
         app.world_mut().despawn(camera);
         app.world_mut().despawn(object);
@@ -540,12 +615,20 @@ fn run() -> Result<(), String> {
             .remove(&target);
     }
     for (qi, d) in dirs.iter().enumerate() {
-        let json = serde_json::json!({
-            "peer": "bevy",
-            "bevy": "0.19.1",
-            "quality": args.qualities[qi],
-            "views": times[qi],
-        });
+        let json = match &variants[qi].1 {
+            Variant::Bevy(_) => serde_json::json!({
+                "peer": "bevy",
+                "bevy": "0.19.1",
+                "quality": args.qualities[qi],
+                "views": times[qi],
+            }),
+            Variant::Obscura(o) => serde_json::json!({
+                "peer": "obscura-bevy",
+                "bevy": "0.19.1",
+                "preset": format!("{:?}", o.preset).to_lowercase(),
+                "views": times[qi],
+            }),
+        };
         let path = d.join(&args.times);
         std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap())
             .map_err(|e| format!("{}: {e}", path.display()))?;
