@@ -278,11 +278,10 @@ fn obscura_pass(
         Some(v) if v.options == options => v,
         _ => match obscura::Ao::new(device, options) {
             Ok(ao) => {
-                let view_from_world = None;
                 let view = ViewAo {
                     options,
                     ao,
-                    view_from_world,
+                    view_from_world: None,
                 };
                 state.views.insert(entity, view);
                 state.views.get_mut(&entity).expect("inserted")
@@ -305,18 +304,18 @@ fn obscura_pass(
         }
     };
     let world_from_view = extracted.world_from_view.to_matrix();
-    let camera_view_from_world = world_from_view.inverse();
+    let view_from_world = world_from_view.inverse();
     // The camera's motion since the last frame, as obscura's history reprojects it:
     // previous view-from-world times this frame's world-from-view.
-    let motion = match view_ao.view_from_world.replace(camera_view_from_world) {
+    let motion = match view_ao.view_from_world.replace(view_from_world) {
         None => obscura::CameraMotion::Cut,
-        Some(previous) if previous == camera_view_from_world => obscura::CameraMotion::Still,
+        Some(previous) if previous == view_from_world => obscura::CameraMotion::Still,
         Some(previous) => obscura::CameraMotion::Moved {
             previous_from_current: (previous * world_from_view).to_cols_array_2d(),
         },
     };
-    let view_from_world =
-        Mat3::from_quat(extracted.world_from_view.rotation().inverse()).to_cols_array_2d();
+    // The rotation that takes the prepass's world normals to view space.
+    let view_from_world = Mat3::from_mat4(view_from_world).to_cols_array_2d();
     let normals = prepass
         .normal_view()
         .filter(|_| settings.prepass_normals)
