@@ -84,15 +84,22 @@ const MARCH_STEP: Work = work(0.0, 0.0, 16.0);
 const MARCH_POW: Work = work(0.0, 2.0, 0.0);
 /// Per side of a step: the fetch, the view position, the in-slice horizon cosine.
 const GTAO_SIDE: Work = work(1.0, 1.0, 40.0);
-/// The bitmask (bitmask.wgsl) per side of a step and depth layer: the solid's stretch
-/// within R (a quadratic: sqrt and a division), both ends' pseudo-angle sectors (a
-/// division each), the run of bits.
-const BITMASK_SOLID: Work = work(1.0, 4.0, 110.0);
-/// The bitmask per slice beyond GTAO's slice frame: the hemisphere's integral and, per
-/// run of occluded sectors, two edge angles (atan2) and two running integrals (cos);
+/// The bitmask (bitmask.wgsl) per pixel beyond GTAO's: the positions in units of R.
+const BITMASK_PIXEL: Work = work(0.0, 1.0, 12.0);
+/// Per slice beyond GTAO's slice frame: the hemisphere's integral and the projections onto
+/// the slice's (tangent, normal, axis); per run of occluded sectors, two edges (an inverse
+/// square root, a square root and a polynomial each) and their running integrals;
 /// [`BITMASK_RUNS`] runs a slice.
-const BITMASK_SLICE: Work = work(0.0, 9.0, 100.0);
+const BITMASK_SLICE: Work = work(0.0, 9.0, 140.0);
 const BITMASK_RUN: Work = work(0.0, 4.0, 70.0);
+/// Per step: its offset projected once for both sides.
+const BITMASK_STEP: Work = work(0.0, 0.0, 11.0);
+/// Per side of a step: the sample's view ray and the solid's direction in slice
+/// coordinates; per depth layer: the fetch, the solid's stretch within R (a quadratic, one
+/// square root, scaled so that it needs no division), both ends' pseudo-angle sectors (one
+/// division for the two), the run of bits.
+const BITMASK_SIDE: Work = work(0.0, 0.0, 24.0);
+const BITMASK_SOLID: Work = work(1.0, 2.0, 59.0);
 /// Runs of occluded sectors per slice assumed (an open surface has none, a corner one or
 /// two).
 pub const BITMASK_RUNS: f64 = 1.5;
@@ -122,10 +129,11 @@ pub fn ao_work(o: &AoOptions, second_layer: bool) -> Option<Work> {
         Estimator::Gtao => Some(GTAO_PIXEL + (GTAO_SLICE + (step + GTAO_SIDE * 2.0) * s) * d),
         Estimator::Bitmask => Some(
             GTAO_PIXEL
+                + BITMASK_PIXEL
                 + (GTAO_SLICE
                     + BITMASK_SLICE
                     + BITMASK_RUN * BITMASK_RUNS
-                    + (step + BITMASK_SOLID * (2.0 * layers)) * s)
+                    + (step + BITMASK_STEP + (BITMASK_SIDE + BITMASK_SOLID * layers) * 2.0) * s)
                     * d,
         ),
         _ => None,

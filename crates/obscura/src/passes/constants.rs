@@ -109,6 +109,23 @@ pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
 /// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
 /// |error| ≤ 5e-5 (GTAO's `fast_acos`, passes/estimators/gtao_arcs.wgsl, and its mirror).
 pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
+/// The bitmask's sectors a slice (passes/estimators/bitmask.wgsl): the bits of a `u32`.
+pub const SECTORS: u32 = 32;
+
+/// Abramowitz & Stegun 4.4.46: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + … + a7 x⁷) on [0, 1],
+/// |error| ≤ 2e-8: the bitmask's sector edges (`sector_edge`, passes/estimators/bitmask.wgsl,
+/// and its mirror), whose integrals must close to the hemisphere's at float precision. a0,
+/// 1.5707963050, is π/2 in f32.
+pub const ACOS_POLY_FINE: [f32; 8] = [
+    std::f32::consts::FRAC_PI_2,
+    -0.214_598_8,
+    0.088_978_99,
+    -0.050_174_3,
+    0.030_891_88,
+    -0.017_088_126,
+    0.006_670_09,
+    -0.001_262_491,
+];
 /// Noisy depth (passes/prepare/normals_fit.wgsl): each pixel's plane is fitted to
 /// (2 · FIT_RADIUS + 1)² depths, taps `stride` pixels apart.
 pub const FIT_RADIUS: i32 = 3;

@@ -10,7 +10,7 @@
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
 // infinitely thick solid counts where its front is within R, as in GTAO. Sky and
 // off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
-// costs a division where an angle costs an arc cosine (`sector_of`). A slice's
+// costs a division where an angle costs an arc cosine (`sector_pair`). A slice's
 // visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
 // its runs of occluded sectors, exact between sector edges (`sectors_integral`), so with
 // infinite thickness the estimate is GTAO's with each horizon rounded to the nearest
@@ -25,7 +25,8 @@ override STEPS: u32 = 4u;
 override MARCH_EXPONENT: f32 = 1.0;
 override BENT_NORMALS: bool = false;
 
-const SECTORS: f32 = 32.0;
+// SECTORS (constants.rs) as a float.
+const SECTORS_F: f32 = f32(SECTORS);
 
 // D at the hemisphere's edge n + e * pi/2 (e = +1 or -1), where cos(2h - n) = -cos n.
 fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
@@ -34,21 +35,42 @@ fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     return select(g, -g, h < 0.0);
 }
 
-// The running integral D at an angle h of the slice (h within the normal's hemisphere).
-fn slice_at(h: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let g = (cos_n + 2.0 * h * sin_n - cos(2.0 * h - n)) * 0.25;
+// Sector edge k (0 to SECTORS) is the direction (p, 1 - |p|), p = 2k / SECTORS - 1, in
+// (tangent, normal) coordinates: its angle a from the normal, cos a and sin a, from an
+// inverse square root and A&S 4.4.46's arc cosine (ACOS_POLY_FINE, constants.rs) where
+// atan2 and a cosine cost more. Mirror: `sector_edge`.
+fn sector_edge(k: u32) -> vec3<f32> {
+    let p = f32(k) * (2.0 / SECTORS_F) - 1.0;
+    let b = 1.0 - abs(p);
+    let inv_len = inverseSqrt(p * p + b * b);
+    let x = b * inv_len;
+    let c = ACOS_POLY_FINE;
+    let poly = c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * (c[4] + x * (c[5] + x * (c[6] + x * c[7]))))));
+    let a = sqrt(1.0 - x) * poly;
+    return vec3<f32>(select(a, -a, p < 0.0), x, p * inv_len);
+}
+
+// The running integral D at sector edge k, the slice angle h = n + a:
+// cos(2h - n) = cos(n + 2a) from cos a and sin a. Mirror: `slice_at_edge`.
+fn slice_at_edge(k: u32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    let e = sector_edge(k);
+    let h = n + e.x;
+    let cos_2h_n = cos_n * (e.y * e.y - e.z * e.z) - sin_n * (2.0 * e.y * e.z);
+    let g = (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25;
     return select(g, -g, h < 0.0);
 }
 
-// The running bent-normal integral at angle h, signed like D: gtao_bent's closed form
-// (gtao_arcs.wgsl) at cos h and sin h, in (ortho, V) coordinates.
-fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
-    let ch = cos(h);
-    let sh = sin(h);
+// The running bent-normal integral at sector edge k, signed like D: gtao_bent's closed form
+// (gtao_arcs.wgsl) at cos h and sin h (h = n + a), in (ortho, V) coordinates.
+// Mirror: `bent_at_edge`.
+fn bent_at_edge(k: u32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
+    let e = sector_edge(k);
+    let ch = cos_n * e.y - sin_n * e.z;
+    let sh = sin_n * e.y + cos_n * e.z;
     let sh3 = sh * sh * sh;
     let ch3 = ch * ch * ch;
     let f = vec2<f32>(cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3), cos_n * (1.0 - ch3) + sin_n * sh3) / 3.0;
-    return select(f, -f, h < 0.0);
+    return select(f, -f, n + e.x < 0.0);
 }
 
 // A slice's sectors: SECTORS bits from the normal's hemisphere edge n - pi/2 (bit 0) to
@@ -56,21 +78,15 @@ fn bent_at(h: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
 // components a along the tangent (toward the edge n + pi/2) and b along the projected
 // normal. p runs monotonically from -1 to 1 and costs one division where the angle costs
 // an arc cosine; a sector spans 3.6 degrees at the normal and the edges, 7.2 halfway.
-// The position (0 to SECTORS) of in-slice direction w, (ortho, V) coordinates, on side s;
-// below the hemisphere a direction takes its side's edge. Mirror: `sector_of`.
-fn sector_of(w: vec2<f32>, s: f32, tangent: vec2<f32>, normal2: vec2<f32>) -> f32 {
-    let ws = vec2<f32>(s * abs(w.x), w.y);
-    let a = dot(ws, tangent);
-    let b = dot(ws, normal2);
-    let p = select(a / (abs(a) + b), s, b <= 0.0);
-    return (p + 1.0) * (0.5 * SECTORS);
-}
-
-// The slice angle of sector edge k (0 to SECTORS): direction (p, 1 - |p|) in (tangent,
-// normal) coordinates. Mirror: `edge_angle`.
-fn edge_angle(k: u32, n: f32) -> f32 {
-    let p = f32(k) * (2.0 / SECTORS) - 1.0;
-    return n + atan2(p, 1.0 - abs(p));
+// The positions (0 to SECTORS) of two in-slice directions w = (a, b) on side s, with one
+// division (a0 / d0 = a0 d1 / (d0 d1)); below the hemisphere (b <= 0) a direction takes its
+// side's edge. Mirror: `sector_of`.
+fn sector_pair(w0: vec2<f32>, w1: vec2<f32>, s: f32) -> vec2<f32> {
+    let d0 = max(abs(w0.x) + w0.y, 1e-18);
+    let d1 = max(abs(w1.x) + w1.y, 1e-18);
+    let r = 1.0 / (d0 * d1);
+    let p = vec2<f32>(select(w0.x * d1 * r, s, w0.y <= 0.0), select(w1.x * d0 * r, s, w1.y <= 0.0));
+    return p * (0.5 * SECTORS_F) + 0.5 * SECTORS_F;
 }
 
 // 32 bits hold at most 16 runs of set bits: the bound of the loops over runs below
@@ -96,7 +112,7 @@ fn sectors_integral(bits_in: u32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
             break;
         }
         let r = lowest_run(bits);
-        sum += slice_at(edge_angle(r.y, n), n, cos_n, sin_n) - slice_at(edge_angle(r.x, n), n, cos_n, sin_n);
+        sum += slice_at_edge(r.y, n, cos_n, sin_n) - slice_at_edge(r.x, n, cos_n, sin_n);
         bits &= ~sector_bits(r.x, r.y);
     }
     return sum;
@@ -113,7 +129,7 @@ fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
             break;
         }
         let r = lowest_run(bits);
-        bent += bent_at(edge_angle(r.y, n), cos_n, sin_n) - bent_at(edge_angle(r.x, n), cos_n, sin_n);
+        bent += bent_at_edge(r.y, n, cos_n, sin_n) - bent_at_edge(r.x, n, cos_n, sin_n);
         bits &= ~sector_bits(r.x, r.y);
     }
     return bent;
@@ -142,7 +158,17 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     }
     let step_px = march_step_px(d, STEPS);
     let size = vec2<i32>(frame.size);
+    let persp = frame.perspective != 0u;
+    // Positions in units of R, so that a point lies within R where its squared length is
+    // below 1. A sample at pixel q and linear depth t lies at base(q) + t ray(q) with
+    // unit(q) = view_position(q, 1), linear in q (common.wgsl): in perspective base 0 and
+    // ray unit(q); in orthographic projection ray -z and base unit(q) + z.
+    let inv_r = sqrt(frame.inv_radius2);
     let thickness = frame.model.x;
+    let unit_p = view_position(vec2<f32>(p) + 0.5, 1.0) * inv_r;
+    let unit_dq = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view * inv_r;
+    let pos_r = pos * inv_r;
+    let z_ray = vec3<f32>(0.0, 0.0, -inv_r);
     var visibility = 0.0;
     var weights = 0.0;
     var bent = vec3<f32>(0.0);
@@ -165,8 +191,20 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let sin_n = slice.sin_n;
         // The slice's integral runs from D(n - pi/2) to D(n + pi/2).
         let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
-        let tangent = vec2<f32>(cos_n, -sin_n);
-        let normal2 = vec2<f32>(sin_n, cos_n);
+        // Each point projected once, onto the slice's tangent (toward the edge n + pi/2),
+        // its projected normal and its axis: the first two are the pseudo-angle's a and b
+        // (`sector_pair`), all three its distance from the centre. unit(q) is unit(p) plus a
+        // step's pixel offset times unit_dq, so a step projects its offset once for both
+        // sides. Mirror: `clip_solid` and `sector_of`, which project the clipped ends.
+        let e_t = cos_n * slice.ortho - sin_n * v;
+        let e_n = sin_n * slice.ortho + cos_n * v;
+        let e_a = slice.axis;
+        let unit_s = vec3<f32>(dot(unit_p, e_t), dot(unit_p, e_n), dot(unit_p, e_a));
+        let pos_s = vec3<f32>(dot(pos_r, e_t), dot(pos_r, e_n), dot(pos_r, e_a));
+        let z_s = vec3<f32>(z_ray.z * e_t.z, z_ray.z * e_n.z, z_ray.z * e_a.z);
+        let dq_t = unit_dq * e_t.xy;
+        let dq_n = unit_dq * e_n.xy;
+        let dq_a = unit_dq * e_a.xy;
         var occluded = 0u;
         for (var s = 0u; s < STEPS; s++) {
             let off = snap_offset(dir * march_ray(s, STEPS, pattern.z, step_px, lattice_cell(), MARCH_EXPONENT));
@@ -174,6 +212,8 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             if all(off == vec2<i32>(0)) {
                 continue;
             }
+            let offf = vec2<f32>(off);
+            let step_s = vec3<f32>(dot(offf, dq_t), dot(offf, dq_n), dot(offf, dq_a));
             for (var side = 0; side < 2; side++) {
                 var q = p + off;
                 var sgn = 1.0;
@@ -188,14 +228,11 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 if sd <= 0.0 {
                     continue;
                 }
-                // The sample's view ray: view_position(at, z) = base + z * ray (common.wgsl;
-                // base 0 in perspective, ray -z in orthographic projection), so a solid of
-                // depth t spans t * ray.
-                let unit = view_position(vec2<f32>(q) + 0.5, 1.0);
-                let persp = frame.perspective != 0u;
-                let ray = select(vec3<f32>(0.0, 0.0, -1.0), unit, persp);
-                let base = select(vec3<f32>(unit.xy, 0.0), vec3<f32>(0.0), persp);
+                let unit_q = unit_s + sgn * step_s;
+                let ray = select(z_s, unit_q, persp);
+                let base = select(unit_q - z_s, vec3<f32>(0.0), persp) - pos_s;
                 let seg = thickness * ray;
+                let qa = dot(seg, seg);
                 // The solids along the sample's view ray: the first layer's, and the second
                 // layer's where one lies behind it (second_layer*.wgsl; mirror: `solids`).
                 let sd2 = sample_second(q);
@@ -207,42 +244,34 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                         }
                         fd = sd2;
                     }
-                    let front0 = base + fd * ray - pos;
-                    let c = dot(front0, front0) * frame.inv_radius2 - 1.0;
-                    // The ends in the slice plane's (ortho, V) coordinates, measured there as in
-                    // gtao.wgsl (pixel snapping moves samples slightly off the plane).
-                    let f2 = vec2<f32>(dot(front0, slice.ortho), dot(front0, v));
-                    var wf = f2;
-                    var wb = f2;
+                    let front = base + fd * ray;
+                    let c = dot(front, front) - 1.0;
+                    // The ends' (a, b), the front's and the back's; an infinitely thick solid
+                    // reaches its side's edge (b <= 0 reads as the edge in `sector_pair`).
+                    var fa = front.xy;
+                    var ba = vec2<f32>(sgn, -1.0);
                     var inside = c < 0.0;
                     if thickness > 0.0 {
                         // The solid's stretch of the view ray within R of the centre: the
-                        // roots s of |front0 + s seg| = R, clamped to [0, 1]. Mirror: `clip_solid`.
-                        let qa = dot(seg, seg) * frame.inv_radius2;
-                        let qb = dot(front0, seg) * frame.inv_radius2;
+                        // roots s of |front + s seg| = 1, clamped to [0, 1], each times qa
+                        // (> 0, which the pseudo-angle's ratio does not see), so that no
+                        // division is needed. Mirror: `clip_solid`.
+                        let qb = dot(front, seg);
                         let disc = qb * qb - qa * c;
                         let sq = sqrt(max(disc, 0.0));
-                        let inv_qa = 1.0 / qa;
-                        let s0 = max((-qb - sq) * inv_qa, 0.0);
-                        let s1 = min((-qb + sq) * inv_qa, 1.0);
-                        inside = qa > 0.0 && disc > 0.0 && s1 > s0;
-                        let seg2 = vec2<f32>(dot(seg, slice.ortho), dot(seg, v));
-                        wf = f2 + s0 * seg2;
-                        wb = f2 + s1 * seg2;
+                        let s0 = max(-qb - sq, 0.0);
+                        let s1 = min(-qb + sq, qa);
+                        inside = disc > 0.0 && s1 > s0;
+                        fa = qa * front.xy + s0 * seg.xy;
+                        ba = qa * front.xy + s1 * seg.xy;
                     }
-                    let lf = dot(wf, wf);
-                    if !inside || lf <= 0.0 {
+                    if !inside || all(fa == vec2<f32>(0.0)) {
                         continue;
                     }
-                    let uf = sector_of(wf, sgn, tangent, normal2);
-                    // Infinitely thick: the solid reaches the hemisphere's edge on this side.
-                    var ub = select(0.0, SECTORS, sgn > 0.0);
-                    if thickness > 0.0 && dot(wb, wb) > 0.0 {
-                        ub = sector_of(wb, sgn, tangent, normal2);
-                    }
-                    let a = u32(clamp(round(min(uf, ub)), 0.0, SECTORS));
-                    let b = u32(clamp(round(max(uf, ub)), 0.0, SECTORS));
-                    occluded |= sector_bits(a, b);
+                    let u = sector_pair(fa, ba, sgn);
+                    let a = u32(round(min(u.x, u.y)));
+                    let b = u32(round(max(u.x, u.y)));
+                    occluded |= insertBits(0u, 0xffffffffu, a, b - a);
                 }
             }
         }

@@ -61,6 +61,7 @@ pub fn prelude() -> String {
          const TENT_WEIGHTS: array<f32, 3> = array<f32, 3>({});\n\
          const TENT_SPACING: i32 = {TENT_SPACING};\n\
          const ACOS_POLY: array<f32, 4> = array<f32, 4>({});\n\
+         const ACOS_POLY_FINE: array<f32, 8> = array<f32, 8>({});\n\
          const FIT_RADIUS: i32 = {FIT_RADIUS};\n\
          const FIT_NORMAL_TAN: f32 = {FIT_NORMAL_TAN:?};\n\
          const FIT_MAX_STRIDE: i32 = {FIT_MAX_STRIDE};\n\
@@ -73,10 +74,12 @@ pub fn prelude() -> String {
          const LIT_NORMAL_MAX: f32 = {LIT_NORMAL_MAX:?};\n\
          const SSDO_SELF_TOLERANCE: f32 = {SSDO_SELF_TOLERANCE:?};\n\
          const SH9_SCALE: array<f32, 5> = array<f32, 5>({});\n\
+         const SECTORS: u32 = {SECTORS}u;\n\
          {}{}{}{}",
         wgsl_floats(&IGN_WEIGHTS),
         wgsl_floats(&TENT_WEIGHTS),
         wgsl_floats(&ACOS_POLY),
+        wgsl_floats(&ACOS_POLY_FINE),
         wgsl_floats(&LIT_RATIO_MAX),
         wgsl_floats(&SH9_SCALE),
         FrameUniforms::wgsl(),
