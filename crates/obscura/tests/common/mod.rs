@@ -36,7 +36,7 @@ pub fn read_packed(c: &GpuContext, t: &wgpu::Texture) -> Vec<[u32; 4]> {
 /// A packed merge (passes/lights/lights_merge.wgsl) against its mirror
 /// (`reference::merge_lights_packed`). Both round the pass along x's result to the
 /// encoding's steps, so a rounding difference (~1e-7) can put one ratio a step apart (a
-/// tie, as a depth rule's picks in tests/gpu/main.rs): at most 0.5% of the pixels may differ by
+/// tie, as a depth rule's picks in tests/gpu/resolution.rs): at most 0.5% of the pixels may differ by
 /// more than 1e-4 of the mean, and none by more than one step of the brightest pixel (its
 /// largest component / 1023) beyond that.
 #[allow(dead_code)] // gpu/lights.rs and gpu/ssdo.rs, not device_lost.rs
