@@ -90,8 +90,8 @@ const BITMASK_PIXEL: Work = work(0.0, 1.0, 12.0);
 /// the slice's (tangent, normal, axis); per run of occluded sectors, two edges (an inverse
 /// square root, a square root and a polynomial each) and their running integrals;
 /// [`BITMASK_RUNS`] runs a slice.
-const BITMASK_SLICE: Work = work(0.0, 9.0, 140.0);
-const BITMASK_RUN: Work = work(0.0, 4.0, 70.0);
+const BITMASK_SLICE: Work = work(0.0, 9.0, 130.0);
+const BITMASK_RUN: Work = work(0.0, 4.0, 64.0);
 /// Per step: its offset projected once for both sides.
 const BITMASK_STEP: Work = work(0.0, 0.0, 11.0);
 /// Per side of a step: the sample's view ray and the solid's direction in slice

@@ -3,17 +3,20 @@
 //! the slice's tangent and normal once, and scales the clipped ends so that neither the
 //! clip nor the two ends' sectors need more than one division).
 
-use super::{gtao_slice, GtaoSlice, Pixels, Surface};
+use super::{slice_ao, slice_samples, GtaoSlice, Pixels};
 use crate::passes::constants::ACOS_POLY_FINE;
 use crate::passes::prepare::centre;
 use glam::{Vec2, Vec3};
+#[cfg(test)]
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Sectors per slice: the bits of a `u32`.
 const SECTORS: f32 = crate::passes::constants::SECTORS as f32;
 
-/// Mirrors `slice_edge` in bitmask.wgsl.
-pub(crate) fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
+/// The running integral D at the hemisphere's edge n + e π/2 (e = ±1), where
+/// cos(2h − n) = −cos n.
+#[cfg(test)]
+fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     let h = n + e * FRAC_PI_2;
     let g = (cos_n + h * sin_n) * 0.5;
     if h < 0.0 {
@@ -21,6 +24,12 @@ pub(crate) fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
     } else {
         g
     }
+}
+
+/// The slice's integral over the whole hemisphere, D(n + π/2) − D(n − π/2) = cos n + n sin n;
+/// mirrors `total` in bitmask.wgsl.
+pub(crate) fn slice_total(n: f32, cos_n: f32, sin_n: f32) -> f32 {
+    cos_n + n * sin_n
 }
 
 /// Mirrors `sector_edge` in bitmask.wgsl: sector edge `k`'s angle a from the normal, cos a
@@ -155,7 +164,7 @@ pub(crate) fn clip_solid(
     (qa > 0.0 && disc > 0.0 && s1 > s0).then(|| (front0 + seg * s0, Some(front0 + seg * s1)))
 }
 
-/// Mirrors `sector_bits` in bitmask.wgsl: bits `[a, b)`.
+/// Bits `[a, b)` (none where a ≥ b); bitmask.wgsl sets and clears runs with `insertBits`.
 pub(crate) fn sector_bits(a: u32, b: u32) -> u32 {
     let below = |k: u32| if k >= 32 { u32::MAX } else { (1u32 << k) - 1 };
     below(b) & !below(a)
@@ -210,90 +219,42 @@ pub fn bitmask_pixel_solids(
     solids: impl Fn([i32; 2]) -> Solids,
 ) -> (f32, Vec3) {
     let f = px.f;
-    let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
-        return (1.0, Vec3::ZERO);
-    };
-    let v = if f.perspective != 0 {
-        (-pos).normalize()
-    } else {
-        Vec3::Z
-    };
-    let step_px = f.step_px(d, px.steps);
-    let mut visibility = 0.0;
-    let mut weights = 0.0;
-    let mut bent = Vec3::ZERO;
-    let (ts, tc) = (PI / px.directions as f32).sin_cos();
-    let mut dir = [pattern[0], pattern[1]];
-    for i in 0..px.directions {
-        if i > 0 {
-            dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
-        }
+    slice_ao(px, p, pattern, |at| {
         let GtaoSlice {
-            axis: _,
             ortho,
-            weight,
-            proj_len,
             n,
             cos_n,
             sin_n,
-        } = gtao_slice(dir, v, normal);
-        weights += weight;
-        if proj_len < 1e-6 {
-            visibility += weight;
-            continue;
-        }
-        let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
+            ..
+        } = at.slice;
+        let total = slice_total(n, cos_n, sin_n);
         let (tangent, normal2) = (Vec2::new(cos_n, -sin_n), Vec2::new(sin_n, cos_n));
         // In-slice (ortho, V) coordinates of a point relative to the centre.
-        let in_slice = |w: Vec3| Vec2::new(w.dot(ortho), w.dot(v));
+        let in_slice = |w: Vec3| Vec2::new(w.dot(ortho), w.dot(at.v));
         let mut occluded = 0u32;
-        for s in 0..px.steps {
-            let ray = super::march_ray(s, px.steps, pattern[2], step_px, 1.0, px.march_exponent);
-            let off = px.snap([dir[0] * ray, dir[1] * ray]);
-            if off == [0, 0] {
-                continue;
-            }
-            for sgn in [1.0f32, -1.0] {
-                let q = if sgn > 0.0 {
-                    [p[0] + off[0], p[1] + off[1]]
-                } else {
-                    [p[0] - off[0], p[1] - off[1]]
+        for (side, q) in slice_samples(px, p, at, pattern[2]) {
+            let sgn = if side == 0 { 1.0 } else { -1.0 };
+            let c = centre(q);
+            for (sd, sb) in solids(q).into_iter().flatten() {
+                let Some((front, back)) = clip_solid(f, c, at.pos, sd, sb) else {
+                    continue;
                 };
-                let at = centre(q);
-                for (sd, sb) in solids(q).into_iter().flatten() {
-                    let Some((front, back)) = clip_solid(f, at, pos, sd, sb) else {
-                        continue;
-                    };
-                    let wf = in_slice(front);
-                    if wf.dot(wf) <= 0.0 {
-                        continue;
-                    }
-                    let uf = sector_of(wf, sgn, tangent, normal2);
-                    let mut ub = if sgn > 0.0 { SECTORS } else { 0.0 };
-                    if let Some(wb) = back.map(in_slice).filter(|wb| wb.dot(*wb) > 0.0) {
-                        ub = sector_of(wb, sgn, tangent, normal2);
-                    }
-                    let bit = |u: f32| u.round_ties_even().clamp(0.0, SECTORS) as u32;
-                    occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
+                let wf = in_slice(front);
+                if wf.dot(wf) <= 0.0 {
+                    continue;
                 }
+                let uf = sector_of(wf, sgn, tangent, normal2);
+                let mut ub = if sgn > 0.0 { SECTORS } else { 0.0 };
+                if let Some(wb) = back.map(in_slice).filter(|wb| wb.dot(*wb) > 0.0) {
+                    ub = sector_of(wb, sgn, tangent, normal2);
+                }
+                let bit = |u: f32| u.round_ties_even().clamp(0.0, SECTORS) as u32;
+                occluded |= sector_bits(bit(uf.min(ub)), bit(uf.max(ub)));
             }
         }
-        visibility +=
-            weight * proj_len * (total - sectors_integral(occluded, n, cos_n, sin_n)).max(0.0);
-        let b = bitmask_bent(occluded, n, cos_n, sin_n);
-        bent += weight * proj_len * (b.x * ortho + b.y * v);
-    }
-    let dirs = px.directions as f32;
-    let per_slice = dirs * visibility / weights;
-    let bent = if bent.length_squared() > 1e-12 {
-        bent.normalize()
-    } else {
-        normal
-    };
-    (
-        (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0),
-        bent,
-    )
+        let visible = (total - sectors_integral(occluded, n, cos_n, sin_n)).max(0.0);
+        (visible, bitmask_bent(occluded, n, cos_n, sin_n))
+    })
 }
 
 #[cfg(test)]
@@ -408,8 +369,9 @@ mod tests {
         for &n in &[-1.2f32, -0.5, 0.0, 0.3, 1.0, 1.5] {
             let (sin_n, cos_n) = n.sin_cos();
             let (tangent, normal2) = (Vec2::new(cos_n, -sin_n), Vec2::new(sin_n, cos_n));
-            let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
-            assert!((total - (cos_n + n * sin_n)).abs() < 1e-5, "n {n}: {total}");
+            let total = slice_total(n, cos_n, sin_n);
+            let edges = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
+            assert!((total - edges).abs() < 1e-5, "n {n}: {total} vs {edges}");
             // The unit direction at slice angle h, (ortho, V), and its side.
             let sector = |h: f32| {
                 let s = if h < 0.0 { -1.0 } else { 1.0 };

@@ -28,13 +28,6 @@ override BENT_NORMALS: bool = false;
 // SECTORS (constants.rs) as a float.
 const SECTORS_F: f32 = f32(SECTORS);
 
-// D at the hemisphere's edge n + e * pi/2 (e = +1 or -1), where cos(2h - n) = -cos n.
-fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    let h = n + e * HALF_PI;
-    let g = (cos_n + h * sin_n) * 0.5;
-    return select(g, -g, h < 0.0);
-}
-
 // Sector edge k (0 to SECTORS) is the direction (p, 1 - |p|), p = 2k / SECTORS - 1, in
 // (tangent, normal) coordinates: its angle a from the normal, cos a and sin a, from an
 // inverse square root and A&S 4.4.46's arc cosine (ACOS_POLY_FINE, constants.rs) where
@@ -113,7 +106,7 @@ fn sectors_integral(bits_in: u32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
         }
         let r = lowest_run(bits);
         sum += slice_at_edge(r.y, n, cos_n, sin_n) - slice_at_edge(r.x, n, cos_n, sin_n);
-        bits &= ~sector_bits(r.x, r.y);
+        bits = insertBits(bits, 0u, r.x, r.y - r.x);
     }
     return sum;
 }
@@ -130,16 +123,9 @@ fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
         }
         let r = lowest_run(bits);
         bent += bent_at_edge(r.y, n, cos_n, sin_n) - bent_at_edge(r.x, n, cos_n, sin_n);
-        bits &= ~sector_bits(r.x, r.y);
+        bits = insertBits(bits, 0u, r.x, r.y - r.x);
     }
     return bent;
-}
-
-// Bits [a, b) set, 0 <= a, b <= 32.
-fn sector_bits(a: u32, b: u32) -> u32 {
-    let below_b = select((1u << b) - 1u, 0xffffffffu, b >= 32u);
-    let below_a = select((1u << a) - 1u, 0xffffffffu, a >= 32u);
-    return below_b & ~below_a;
 }
 
 fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
@@ -189,8 +175,9 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
         let n = slice.n;
         let cos_n = slice.cos_n;
         let sin_n = slice.sin_n;
-        // The slice's integral runs from D(n - pi/2) to D(n + pi/2).
-        let total = slice_edge(1.0, n, cos_n, sin_n) - slice_edge(-1.0, n, cos_n, sin_n);
+        // The slice's integral from D(n - pi/2) to D(n + pi/2), where cos(2h - n) = -cos n:
+        // cos n + n sin n (mirror: `slice_total`).
+        let total = cos_n + n * sin_n;
         // Each point projected once, onto the slice's tangent (toward the edge n + pi/2),
         // its projected normal and its axis: the first two are the pseudo-angle's a and b
         // (`sector_pair`), all three its distance from the centre. unit(q) is unit(p) plus a

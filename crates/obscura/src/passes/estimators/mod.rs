@@ -3,7 +3,10 @@
 //! mirror below reads like it (same names, same order of operations).
 
 mod bitmask;
+mod gtao;
 pub use bitmask::{bitmask_pixel, bitmask_pixel_bent, bitmask_pixel_solids, Solids};
+pub use gtao::{gtao_pixel, gtao_pixel_bent};
+pub(crate) use gtao::{gtao_side, gtao_slice, slice_ao, slice_samples, GtaoSlice};
 
 use crate::passes::prepare::centre;
 use crate::passes::pyramid::{moments, pyramid, PyramidLevel};
@@ -202,192 +205,6 @@ pub fn hbao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
         n
     };
     ((1.0 - occlusion * f.ao_scale).clamp(0.0, 1.0), bent)
-}
-
-/// acos with |error| ≤ 1e-4 rad on [-1, 1] (Abramowitz & Stegun 4.4.45); mirrors
-/// `fast_acos` in passes/estimators/gtao_arcs.wgsl.
-pub(crate) fn fast_acos(x: f32) -> f32 {
-    use crate::passes::constants::ACOS_POLY as k;
-    let a = x.abs();
-    let r = (1.0 - a).sqrt() * (k[0] + a * (k[1] + a * (k[2] + a * k[3])));
-    if x < 0.0 {
-        std::f32::consts::PI - r
-    } else {
-        r
-    }
-}
-
-/// One side's visible arc of a GTAO slice; mirrors `gtao_side` in passes/estimators/gtao_arcs.wgsl.
-pub(crate) fn gtao_side(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
-    use std::f32::consts::FRAC_PI_2;
-    let t = s * fast_acos(c) - n;
-    let h = n + t.clamp(-FRAC_PI_2, FRAC_PI_2);
-    let sin_h = s * (1.0 - c * c).max(0.0).sqrt();
-    let cos_2h_n = if t.abs() > FRAC_PI_2 {
-        -cos_n
-    } else {
-        (2.0 * c * c - 1.0) * cos_n + 2.0 * sin_h * c * sin_n
-    };
-    (cos_n + 2.0 * h * sin_n - cos_2h_n) * 0.25
-}
-
-/// One side's share of a GTAO slice's bent normal in (ortho, V) coordinates; mirrors
-/// `gtao_bent` in passes/estimators/gtao_arcs.wgsl (closed form there).
-fn gtao_bent(c: f32, s: f32, n: f32, cos_n: f32, sin_n: f32) -> glam::Vec2 {
-    use std::f32::consts::FRAC_PI_2;
-    let t = s * fast_acos(c) - n;
-    let (ch, sh) = if t > FRAC_PI_2 {
-        (-sin_n, cos_n)
-    } else if t < -FRAC_PI_2 {
-        (sin_n, -cos_n)
-    } else {
-        (c, s * (1.0 - c * c).max(0.0).sqrt())
-    };
-    let (sh3, ch3) = (sh * sh * sh, ch * ch * ch);
-    glam::Vec2::new(
-        cos_n * sh3 + sin_n * (2.0 - 3.0 * ch + ch3),
-        cos_n * (1.0 - ch3) + sin_n * sh3,
-    ) / 3.0
-}
-
-/// One GTAO slice's frame; mirrors `GtaoSlice` in passes/estimators/gtao_arcs.wgsl.
-pub(crate) struct GtaoSlice {
-    pub(crate) axis: Vec3,
-    /// Unit.
-    pub(crate) ortho: Vec3,
-    pub(crate) weight: f32,
-    pub(crate) proj_len: f32,
-    pub(crate) n: f32,
-    pub(crate) cos_n: f32,
-    pub(crate) sin_n: f32,
-}
-
-/// Mirrors `gtao_slice` in passes/estimators/gtao_arcs.wgsl.
-pub(crate) fn gtao_slice(dir: [f32; 2], v: Vec3, normal: Vec3) -> GtaoSlice {
-    let dir3 = Vec3::new(dir[0], -dir[1], 0.0);
-    let ortho = dir3 - dir3.dot(v) * v;
-    let axis = ortho.cross(v).normalize();
-    let ddir3 = Vec3::new(-dir[1], -dir[0], 0.0);
-    let dortho = ddir3 - ddir3.dot(v) * v;
-    let weight = dortho.dot(axis).abs() / ortho.length();
-    let proj_n = normal - axis * normal.dot(axis);
-    let proj_len = proj_n.length();
-    let cos_n = (proj_n.dot(v) / proj_len.max(1e-30)).clamp(-1.0, 1.0);
-    // WGSL's sign(0) is 0 (f32::signum(0.0) is 1).
-    let x = ortho.dot(proj_n);
-    let sgn = if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    };
-    GtaoSlice {
-        axis,
-        ortho: ortho.normalize(),
-        weight,
-        proj_len,
-        n: sgn * fast_acos(cos_n),
-        cos_n,
-        sin_n: sgn * (1.0 - cos_n * cos_n).sqrt(),
-    }
-}
-
-/// GTAO of one pixel; mirrors `estimate` in passes/estimators/gtao.wgsl.
-pub fn gtao_pixel(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> f32 {
-    gtao_pixel_bent(px, p, pattern).0
-}
-
-/// GTAO of one pixel and its bent normal (unit, view space; zero on sky); mirrors
-/// `estimate` in passes/estimators/gtao.wgsl with BENT_NORMALS.
-pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec3) {
-    use std::f32::consts::PI;
-    let f = px.f;
-    let Some(Surface { d, n: normal, pos }) = px.surface(p) else {
-        return (1.0, Vec3::ZERO);
-    };
-    let v = if f.perspective != 0 {
-        (-pos).normalize()
-    } else {
-        Vec3::Z
-    };
-    let step_px = f.step_px(d, px.steps);
-    let mut visibility = 0.0;
-    let mut weights = 0.0;
-    let mut bent = Vec3::ZERO;
-    let (ts, tc) = (PI / px.directions as f32).sin_cos();
-    let mut dir = [pattern[0], pattern[1]];
-    for i in 0..px.directions {
-        if i > 0 {
-            dir = [dir[0] * tc - dir[1] * ts, dir[0] * ts + dir[1] * tc];
-        }
-        let GtaoSlice {
-            axis,
-            ortho,
-            weight,
-            proj_len,
-            n,
-            cos_n,
-            sin_n,
-        } = gtao_slice(dir, v, normal);
-        weights += weight;
-        if proj_len < 1e-6 {
-            visibility += weight;
-            continue;
-        }
-        let mut hc = [-sin_n, sin_n];
-        for s in 0..px.steps {
-            let ray = march_ray(
-                s,
-                px.steps,
-                pattern[2],
-                step_px,
-                // One pixel in every layout (the near field is at full resolution).
-                1.0,
-                px.march_exponent,
-            );
-            let off = px.snap([dir[0] * ray, dir[1] * ray]);
-            // The centre is never its own occluder (gtao.wgsl).
-            if off == [0, 0] {
-                continue;
-            }
-            for (side, h) in hc.iter_mut().enumerate() {
-                let q = if side == 0 {
-                    [p[0] + off[0], p[1] + off[1]]
-                } else {
-                    [p[0] - off[0], p[1] - off[1]]
-                };
-                let Some(sd) = px.depth_at(q) else {
-                    continue;
-                };
-                if sd <= 0.0 {
-                    continue;
-                }
-                let full = f.view_position(centre(q), sd) - pos;
-                let r2 = full.dot(full) * f.inv_radius2;
-                let w = full - axis * full.dot(axis);
-                if r2 >= 1.0 || w.dot(w) <= 0.0 {
-                    continue;
-                }
-                *h = h.max((w.dot(v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
-            }
-        }
-        let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
-        visibility += weight * proj_len * arcs;
-        let b = gtao_bent(hc[0], 1.0, n, cos_n, sin_n) + gtao_bent(hc[1], -1.0, n, cos_n, sin_n);
-        bent += weight * proj_len * (b.x * ortho + b.y * v);
-    }
-    let dirs = px.directions as f32;
-    let per_slice = dirs * visibility / weights;
-    let bent = if bent.length_squared() > 1e-12 {
-        bent.normalize()
-    } else {
-        normal
-    };
-    (
-        (1.0 - (dirs - per_slice) * f.ao_scale).clamp(0.0, 1.0),
-        bent,
-    )
 }
 
 /// VO (`offset` 0) or VAO (`offset` 0.5) of one pixel; mirrors `estimate` in
@@ -661,7 +478,6 @@ fn over_pixels<T>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::FRAC_PI_2;
 
     /// In the N×N layouts an offset within NEAR_FIELD_CELLS cells lands on its own pixel
     /// (rounded), one beyond on the layer's lattice; full resolution rounds everywhere.
@@ -716,39 +532,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn fast_acos_is_within_its_stated_bound() {
-        let mut worst = 0.0f64;
-        for i in 0..=200_000 {
-            let x = -1.0 + 2.0 * i as f64 / 200_000.0;
-            worst = worst.max((fast_acos(x as f32) as f64 - x.acos()).abs());
-        }
-        assert!(worst <= 1e-4, "fast_acos error {worst:e} rad");
-    }
-
-    /// The trigonometric form of Jimenez et al.'s eq. 10 for one side, in f64.
-    fn arc_trig(c: f64, s: f64, n: f64) -> f64 {
-        let h = n + (s * c.acos() - n).clamp(-FRAC_PI_2, FRAC_PI_2);
-        (n.cos() + 2.0 * h * n.sin() - (2.0 * h - n).cos()) * 0.25
-    }
-
-    #[test]
-    fn gtao_side_matches_the_trigonometric_arc() {
-        let mut worst = 0.0f64;
-        for i in 0..=60 {
-            // Normal angles over the whole circle: the clamp holds on some of them.
-            let n = -3.1 + 6.2 * i as f64 / 60.0;
-            for j in 0..=60 {
-                let c = -1.0 + 2.0 * j as f64 / 60.0;
-                for s in [1.0, -1.0] {
-                    let got =
-                        gtao_side(c as f32, s as f32, n as f32, n.cos() as f32, n.sin() as f32);
-                    worst = worst.max((got as f64 - arc_trig(c, s, n)).abs());
-                }
-            }
-        }
-        assert!(worst <= 2e-4, "arc error {worst:e}");
     }
 }
