@@ -11,18 +11,7 @@ fn bent_normals_match_cpu_reference_in_every_layout() {
         radius: 1.5,
         ..Default::default()
     };
-    let run = |options| {
-        run_ao(
-            &raw,
-            W,
-            H,
-            p,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        )
-    };
+    let run = |options| run_linear(&raw, W, H, p, options, &params);
     // The full-resolution prepared buffer (fused deinterleaved modes keep none).
     let full = run(AoOptions {
         fused: false,
@@ -192,16 +181,7 @@ fn bent_normals_on_planes_and_in_a_crease() {
             bent_normals: true,
             ..Default::default()
         };
-        run_ao(
-            raw,
-            w,
-            h,
-            p,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        )
+        run_linear(raw, w, h, p, options, &params)
     };
     let angle = |a: Vec3, b: Vec3| a.dot(b).clamp(-1.0, 1.0).acos().to_degrees();
     let tilted = Vec3::new(0.0, 60f32.to_radians().sin(), 60f32.to_radians().cos());

@@ -5,29 +5,10 @@
 //! depth layer against its mirror, and its input checks. One device per binary.
 
 use crate::{
-    all_variants, assert_matches_mirror, lock, persp, run_ao, test_projections, test_scene, H, W,
+    all_variants, assert_matches_mirror, lock, persp, run_linear, test_projections, test_scene, H,
+    W,
 };
 use obscura::{reference, AoMode, AoOptions, AoParams, DepthConvention, Estimator, Projection};
-
-/// `run_ao` on linear view depth over the whole image.
-fn run_linear(
-    raw: &[f32],
-    (w, h): (u32, u32),
-    projection: Projection,
-    options: AoOptions,
-    params: &AoParams,
-) -> crate::Run {
-    run_ao(
-        raw,
-        w,
-        h,
-        projection,
-        DepthConvention::LinearView,
-        None,
-        options,
-        params,
-    )
-}
 
 fn bitmask(mode: AoMode) -> AoOptions {
     AoOptions {
@@ -51,14 +32,8 @@ fn bitmask_matches_its_mirror_for_every_model() {
                 thickness,
                 ..Default::default()
             };
-            let prepared = run_linear(
-                &raw,
-                (W, H),
-                projection,
-                bitmask(AoMode::Randomized),
-                &params,
-            )
-            .prepared;
+            let prepared =
+                run_linear(&raw, W, H, projection, bitmask(AoMode::Randomized), &params).prepared;
             for options in all_variants()
                 .into_iter()
                 .filter(|o| o.estimator == Estimator::Bitmask && o.mode != AoMode::Deinterleaved4)
@@ -67,7 +42,7 @@ fn bitmask_matches_its_mirror_for_every_model() {
                     ..o
                 })
             {
-                let r = run_linear(&raw, (W, H), projection, options, &params);
+                let r = run_linear(&raw, W, H, projection, options, &params);
                 let cpu = reference::ao(&r.frame, &options, &prepared);
                 let what = format!(
                     "{projection:?} thickness {thickness} exponent {march_exponent} {options:?}"
@@ -98,7 +73,7 @@ fn infinitely_thick_bitmask_is_gtao() {
             estimator,
             ..crate::randomized()
         };
-        run_linear(&raw, (W, H), projection, options, &params).ao
+        run_linear(&raw, W, H, projection, options, &params).ao
     };
     let (b, g) = (run(Estimator::Bitmask), run(Estimator::Gtao));
     let max = b
@@ -133,14 +108,7 @@ fn strip_ao(strip: f32, radius: f32, thickness: f32) -> Vec<f32> {
         thickness,
         ..Default::default()
     };
-    run_linear(
-        &raw,
-        (w, h),
-        projection,
-        bitmask(AoMode::Randomized),
-        &params,
-    )
-    .ao
+    run_linear(&raw, w, h, projection, bitmask(AoMode::Randomized), &params).ao
 }
 
 /// Whether column `x` is the strip's.
@@ -294,14 +262,8 @@ fn second_layer_matches_its_mirror_and_only_darkens() {
     for projection in test_projections() {
         let raw = test_scene(&projection, W, H);
         let second = second_layer_of(&raw, 0.5);
-        let prepared = run_linear(
-            &raw,
-            (W, H),
-            projection,
-            bitmask(AoMode::Randomized),
-            &params,
-        )
-        .prepared;
+        let prepared =
+            run_linear(&raw, W, H, projection, bitmask(AoMode::Randomized), &params).prepared;
         for options in all_variants()
             .into_iter()
             .filter(|o| o.estimator == Estimator::Bitmask)
@@ -316,7 +278,7 @@ fn second_layer_matches_its_mirror_and_only_darkens() {
             assert_eq!(copied, expected, "{what}: the prepared second layer");
             let cpu = reference::ao_second_layer(&frame, &with, &prepared, &copied);
             assert_matches_mirror(&ao, &cpu, &what);
-            let one = run_linear(&raw, (W, H), projection, options, &params).ao;
+            let one = run_linear(&raw, W, H, projection, options, &params).ao;
             let rises = ao
                 .iter()
                 .zip(&one)

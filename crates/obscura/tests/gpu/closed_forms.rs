@@ -39,9 +39,9 @@
 //!   that definition (checked against the crease's closed form, the same geometry when the
 //!   slab is a block and its top out of reach).
 
-use super::{lock, run_ao};
+use super::{lock, run_linear};
 use glam::Vec3;
-use obscura::{reference, AoOptions, AoParams, DepthConvention, Estimator, Projection};
+use obscura::{reference, AoOptions, AoParams, Estimator, Projection};
 use std::f32::consts::{PI, SQRT_2, TAU};
 
 /// Image size, pixel size (view units) and the AO radius: R = 32 px.
@@ -108,16 +108,7 @@ fn plank_occlusion(s: f32, h: f32, depth: f32, n: usize) -> f32 {
 
 /// The AO of `depth` on the GPU and in the CPU mirror, with `options` and `params`.
 fn ao_both(depth: &[f32], options: AoOptions, params: &AoParams) -> (Vec<f32>, Vec<f32>) {
-    let r = run_ao(
-        depth,
-        W,
-        H,
-        ortho(),
-        DepthConvention::LinearView,
-        None,
-        options,
-        params,
-    );
+    let r = run_linear(depth, W, H, ortho(), options, params);
     let cpu = reference::ao(&r.frame, &options, &r.prepared);
     (r.ao, cpu)
 }

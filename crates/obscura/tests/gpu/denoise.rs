@@ -16,18 +16,7 @@ fn denoise_matches_cpu_reference_and_stops_at_edges() {
         radius: 1.5,
         ..Default::default()
     };
-    let run = |options| {
-        run_ao(
-            &raw,
-            W,
-            H,
-            p,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        )
-    };
+    let run = |options| run_linear(&raw, W, H, p, options, &params);
     // Tolerance: 99.5% of pixels within 1e-3 (exp differs in the last bits between the
     // GPU and the CPU; the working AO itself matches exactly).
     let check = |gpu: &[f32], cpu: &[f32], what: &str| {

@@ -94,6 +94,27 @@ struct Run {
     frame: obscura::uniforms::FrameUniforms,
 }
 
+/// [`run_ao`] on linear view depth over the whole texture.
+fn run_linear(
+    raw: &[f32],
+    w: u32,
+    h: u32,
+    projection: Projection,
+    options: AoOptions,
+    params: &AoParams,
+) -> Run {
+    run_ao(
+        raw,
+        w,
+        h,
+        projection,
+        DepthConvention::LinearView,
+        None,
+        options,
+        params,
+    )
+}
+
 #[allow(
     clippy::too_many_arguments,
     reason = "a test helper whose call sites read best with every input spelled out"
@@ -385,16 +406,7 @@ fn plane_ao(
         depth_noise,
         ..Default::default()
     };
-    let r = run_ao(
-        raw,
-        w,
-        h,
-        projection,
-        DepthConvention::LinearView,
-        None,
-        options,
-        &params,
-    );
+    let r = run_linear(raw, w, h, projection, options, &params);
     let pixels: Vec<usize> = ys
         .flat_map(|y| xs.clone().map(move |x| (y * w + x) as usize))
         .filter(|&i| raw[i] > 0.0)

@@ -15,16 +15,7 @@ fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str
         steps: 5,
         ..randomized()
     };
-    let prepared = run_ao(
-        raw,
-        W,
-        H,
-        projection,
-        DepthConvention::LinearView,
-        None,
-        base,
-        &params,
-    );
+    let prepared = run_linear(raw, W, H, projection, base, &params);
     let mut by_mode = Vec::new();
     for v in all_variants() {
         let options = AoOptions {
@@ -32,16 +23,7 @@ fn check_modes_against_reference(projection: Projection, raw: &[f32], what: &str
             steps: 5,
             ..v
         };
-        let r = run_ao(
-            raw,
-            W,
-            H,
-            projection,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        );
+        let r = run_linear(raw, W, H, projection, options, &params);
         let cpu = reference::ao(&r.frame, &options, &prepared.prepared);
         assert_matches_mirror(&r.ao, &cpu, &format!("{what} {options:?}"));
         if projection.is_perspective() {
@@ -94,31 +76,13 @@ fn depth_moments_match_cpu_and_vo_area_reads_them() {
             estimator: Estimator::VoArea,
             ..randomized()
         };
-        let full = run_ao(
-            &raw,
-            w,
-            h,
-            p,
-            DepthConvention::LinearView,
-            None,
-            area,
-            &params,
-        );
+        let full = run_linear(&raw, w, h, p, area, &params);
         let cpu = reference::moments([w, h], &full.prepared);
         for options in all_variants()
             .into_iter()
             .filter(|o| o.estimator == Estimator::VoArea)
         {
-            let r = run_ao(
-                &raw,
-                w,
-                h,
-                p,
-                DepthConvention::LinearView,
-                None,
-                options,
-                &params,
-            );
+            let r = run_linear(&raw, w, h, p, options, &params);
             assert_eq!(r.moments.len(), cpu.len(), "{w}x{h} {options:?}: levels");
             for (level, (g, c)) in r.moments.iter().zip(&cpu).enumerate() {
                 assert_eq!(g.len(), c.texels.len(), "{w}x{h}: level {} size", level + 1);
@@ -141,16 +105,7 @@ fn depth_moments_match_cpu_and_vo_area_reads_them() {
         estimator: Estimator::VoArea,
         ..randomized()
     };
-    let r = run_ao(
-        &raw,
-        W,
-        H,
-        p,
-        DepthConvention::LinearView,
-        None,
-        options,
-        &params,
-    );
+    let r = run_linear(&raw, W, H, p, options, &params);
     let area = reference::ao(&r.frame, &options, &r.prepared);
     let line = reference::ao(
         &r.frame,
@@ -193,16 +148,7 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
             estimator: Estimator::Sao,
             ..randomized()
         };
-        let full = run_ao(
-            &raw,
-            w,
-            h,
-            p,
-            DepthConvention::LinearView,
-            None,
-            sao,
-            &params,
-        );
+        let full = run_linear(&raw, w, h, p, sao, &params);
         let cpu = reference::pyramid([w, h], &full.prepared);
         let base = [1.max(w >> 1), 1.max(h >> 1)];
         assert_eq!(cpu.len() as u32, base[0].max(base[1]).ilog2() + 1);
@@ -215,16 +161,7 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
             .filter(|o| o.estimator == Estimator::Sao)
             .flat_map(|o| builds.map(|pyramid| AoOptions { pyramid, ..o }))
         {
-            let r = run_ao(
-                &raw,
-                w,
-                h,
-                p,
-                DepthConvention::LinearView,
-                None,
-                options,
-                &params,
-            );
+            let r = run_linear(&raw, w, h, p, options, &params);
             assert_eq!(r.pyramid.len(), cpu.len(), "{w}x{h} {options:?}: levels");
             for (level, (g, c)) in r.pyramid.iter().zip(&cpu).enumerate() {
                 assert_eq!(g, &c.texels, "{w}x{h} {options:?}: level {}", level + 1);
@@ -257,16 +194,7 @@ fn depth_pyramid_matches_cpu_and_sao_reads_it() {
         estimator: Estimator::Sao,
         ..randomized()
     };
-    let r = run_ao(
-        &raw,
-        W,
-        H,
-        p,
-        DepthConvention::LinearView,
-        None,
-        options,
-        &params,
-    );
+    let r = run_linear(&raw, W, H, p, options, &params);
     let with = reference::ao(&r.frame, &options, &r.prepared);
     let without: Vec<f32> = {
         let px = reference::Pixels {
@@ -401,16 +329,7 @@ fn viewport_selects_a_region_without_shifting_it() {
         radius: 1.5,
         ..Default::default()
     };
-    let a = run_ao(
-        &inner,
-        W,
-        H,
-        p,
-        DepthConvention::LinearView,
-        None,
-        AoOptions::default(),
-        &params,
-    );
+    let a = run_linear(&inner, W, H, p, AoOptions::default(), &params);
     let b = run_ao(
         &big,
         bw,

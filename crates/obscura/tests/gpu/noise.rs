@@ -37,16 +37,7 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
             ..Default::default()
         };
         let options = randomized();
-        let r = run_ao(
-            &raw,
-            W,
-            H,
-            projection,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        );
+        let r = run_linear(&raw, W, H, projection, options, &params);
         let cpu = reference::prepare(&r.frame, &raw, W);
         // Tolerance: depth 1e-4 relative and normals 1e-2 per component on 99% of pixels
         // (a tap whose distance from the plane is within rounding of the band's edge may
@@ -99,16 +90,7 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
         // Every estimator and layout raises its origin the same way: each against the
         // mirror on the randomized run's prepared buffer.
         for v in all_variants() {
-            let m = run_ao(
-                &raw,
-                W,
-                H,
-                projection,
-                DepthConvention::LinearView,
-                None,
-                v,
-                &params,
-            );
+            let m = run_linear(&raw, W, H, projection, v, &params);
             let cpu = reference::ao(&m.frame, &v, &r.prepared);
             assert_matches_mirror(&m.ao, &cpu, &format!("noisy {projection:?} {v:?}"));
         }

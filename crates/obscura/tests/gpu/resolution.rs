@@ -108,18 +108,7 @@ fn mixed_resolution_matches_cpu_reference() {
                     "{resolution:?} {rule:?} {upsampler:?} {:?}",
                     params.depth_noise
                 );
-                let run = |options| {
-                    run_ao(
-                        &raw,
-                        W,
-                        H,
-                        p,
-                        DepthConvention::LinearView,
-                        None,
-                        options,
-                        &params,
-                    )
-                };
+                let run = |options| run_linear(&raw, W, H, p, options, &params);
                 // Unfused, for the full-resolution prepared buffer the CPU starts from.
                 let r = run(options);
                 // Fused: the prepare pass writes level 1 and linear depth itself; the
@@ -224,16 +213,7 @@ fn upsampling_keeps_constants_and_is_the_identity_at_factor_one() {
                     denoise,
                     ..Default::default()
                 };
-                let r = run_ao(
-                    &raw,
-                    W,
-                    H,
-                    p,
-                    DepthConvention::LinearView,
-                    None,
-                    options,
-                    &zero,
-                );
+                let r = run_linear(&raw, W, H, p, options, &zero);
                 let worst = r.ao.iter().map(|a| (a - 1.0).abs()).fold(0.0, f32::max);
                 assert!(
                     worst <= 1e-6,
@@ -292,16 +272,7 @@ fn step_edge_does_not_bleed_and_does_not_move() {
     };
     let row = h / 2;
     let at = |ao: &[f32], x: u32| ao[(row * w + x) as usize];
-    let full = run_ao(
-        &depth,
-        w,
-        h,
-        ortho(w, h),
-        DepthConvention::LinearView,
-        None,
-        randomized(),
-        &params,
-    );
+    let full = run_linear(&depth, w, h, ortho(w, h), randomized(), &params);
     assert!(
         (0..edge).all(|x| at(&full.ao, x) > 0.999),
         "near side is open at full resolution"
@@ -317,16 +288,7 @@ fn step_edge_does_not_bleed_and_does_not_move() {
                 upsample: upsampler,
                 ..randomized()
             };
-            let r = run_ao(
-                &depth,
-                w,
-                h,
-                ortho(w, h),
-                DepthConvention::LinearView,
-                None,
-                options,
-                &params,
-            );
+            let r = run_linear(&depth, w, h, ortho(w, h), options, &params);
             let what = format!("{resolution:?} {upsampler:?}");
             // Near side, more than one pixel from the edge.
             let darkest_near = (0..edge - 1).map(|x| at(&r.ao, x)).fold(1.0, f32::min);
@@ -396,16 +358,7 @@ fn odd_sizes_keep_features_in_place() {
             ]
         };
         let o = ortho(w, h);
-        let full = run_ao(
-            &depth,
-            w,
-            h,
-            o,
-            DepthConvention::LinearView,
-            None,
-            randomized(),
-            &params,
-        );
+        let full = run_linear(&depth, w, h, o, randomized(), &params);
         let want = outline(&full.ao);
         assert_eq!(
             want,
@@ -422,16 +375,7 @@ fn odd_sizes_keep_features_in_place() {
                 mode,
                 ..randomized()
             };
-            let r = run_ao(
-                &depth,
-                w,
-                h,
-                o,
-                DepthConvention::LinearView,
-                None,
-                options,
-                &params,
-            );
+            let r = run_linear(&depth, w, h, o, options, &params);
             let got = outline(&r.ao);
             // Tolerance: exact at half resolution; at quarter, a 4-pixel texel straddling
             // an edge holds one side's depth, so an outline may land one pixel off (measured
@@ -473,16 +417,7 @@ fn low_resolution_ao_matches_cpu_reference_in_every_layout() {
                     denoise: Denoise::None,
                     ..Default::default()
                 };
-                let r = run_ao(
-                    &raw,
-                    W,
-                    H,
-                    p,
-                    DepthConvention::LinearView,
-                    None,
-                    options,
-                    &params,
-                );
+                let r = run_linear(&raw, W, H, p, options, &params);
                 let level = r.levels.len();
                 let work = r.frame.at_factor(resolution.factor());
                 // SAO's pyramid and VO-area's moments come from full-resolution depth.
@@ -531,16 +466,7 @@ fn scaled_resolution_matches_cpu_reference_and_is_full_resolution_at_scale_one()
             scale,
             ..Default::default()
         };
-        run_ao(
-            &raw,
-            W,
-            H,
-            p,
-            DepthConvention::LinearView,
-            None,
-            options,
-            &params,
-        )
+        run_linear(&raw, W, H, p, options, &params)
     };
     for mode in [AoMode::Randomized, AoMode::Deinterleaved2] {
         for scale in [0.25, 0.4, 0.7, 0.93] {

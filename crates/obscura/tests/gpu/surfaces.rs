@@ -185,16 +185,7 @@ fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
         strength: 4.0,
         ..Default::default()
     };
-    let r = run_ao(
-        &raw,
-        w,
-        h,
-        p,
-        DepthConvention::LinearView,
-        None,
-        randomized(),
-        &params,
-    );
+    let r = run_linear(&raw, w, h, p, randomized(), &params);
     assert!(
         r.ao.iter().all(|a| (0.0..=1.0).contains(a)),
         "AO outside [0, 1]"
@@ -223,19 +214,7 @@ fn ao_stays_in_unit_range_on_noise_and_ignores_invalid_depth() {
             estimator,
             ..randomized()
         };
-        let run = |raw: &[f32]| {
-            run_ao(
-                raw,
-                w,
-                h,
-                p,
-                DepthConvention::LinearView,
-                None,
-                options,
-                &params,
-            )
-            .ao
-        };
+        let run = |raw: &[f32]| run_linear(raw, w, h, p, options, &params).ao;
         let (with, without) = (run(&holed), run(&solid));
         for (i, (a, b)) in with.iter().zip(&without).enumerate() {
             // Tolerance 1e-4: float noise only.
