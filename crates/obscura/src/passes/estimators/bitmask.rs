@@ -28,7 +28,7 @@ fn slice_edge(e: f32, n: f32, cos_n: f32, sin_n: f32) -> f32 {
 
 /// The slice's integral over the whole hemisphere, D(n + π/2) − D(n − π/2) = cos n + n sin n;
 /// mirrors `total` in bitmask.wgsl.
-pub(crate) fn slice_total(n: f32, cos_n: f32, sin_n: f32) -> f32 {
+fn slice_total(n: f32, cos_n: f32, sin_n: f32) -> f32 {
     cos_n + n * sin_n
 }
 
