@@ -138,7 +138,7 @@ pub(crate) fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> Vec
 /// the radius of `pos`, since the reference counts only hits within R. The front may lie
 /// beyond R when the solid reaches into the sphere from in front (a ledge above the
 /// centre). An infinitely thick solid (`back` infinite: GTAO's assumption) counts only
-/// where its front lies within R and reaches the hemisphere's edge (a `None` back). Ends
+/// where its front lies within GTAO_REACH radii (constants.rs) and reaches the hemisphere's edge (a `None` back). Ends
 /// relative to `pos`; `None` where nothing lies within R. Mirrors the clipping in
 /// bitmask.wgsl.
 pub(crate) fn clip_solid(
@@ -151,7 +151,8 @@ pub(crate) fn clip_solid(
     let front0 = f.view_position(at, front) - pos;
     let c = front0.dot(front0) * f.inv_radius2 - 1.0;
     if !back.is_finite() {
-        return (c < 0.0).then_some((front0, None));
+        let reach2 = crate::passes::constants::GTAO_REACH * crate::passes::constants::GTAO_REACH;
+        return (c < reach2 - 1.0).then_some((front0, None));
     }
     // The roots s of |front0 + s seg| = R, clamped to [0, 1].
     let seg = f.view_position(at, back) - pos - front0;
@@ -319,7 +320,8 @@ mod tests {
             );
             assert!((a.x - dx).abs() < 1e-4 && (b.x - dx).abs() < 1e-4);
         }
-        // In front of the sphere, beside it, and infinitely thick from in front of it.
+        // In front of the sphere, beside it, and infinitely thick from beyond GTAO_REACH
+        // radii (5.4 > 5.2) in front of it.
         assert!(clip_solid(&f, [18.5, 16.5], pos, 3.0, 6.0).is_none());
         assert!(clip_solid(&f, [21.5, 16.5], pos, 8.0, 12.0).is_none());
         assert!(clip_solid(&f, [18.5, 16.5], pos, 5.0, f32::INFINITY).is_none());

@@ -8,7 +8,7 @@
 // the sectors between the directions of the ends of its stretch within R of the centre:
 // the ray-traced reference counts hits within R, and a solid whose front lies beyond R
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
-// infinitely thick solid counts where its front is within R, as in GTAO. Sky and
+// infinitely thick solid counts where its front is within GTAO_REACH × R, as in GTAO. Sky and
 // off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
 // costs a division where an angle costs an arc cosine (`sector_pair`). A slice's
 // visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
@@ -237,7 +237,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     // reaches its side's edge (b <= 0 reads as the edge in `sector_pair`).
                     var fa = front.xy;
                     var ba = vec2<f32>(sgn, -1.0);
-                    var inside = c < 0.0;
+                    var inside = c < GTAO_REACH * GTAO_REACH - 1.0;
                     if thickness > 0.0 {
                         // The solid's stretch of the view ray within R of the centre: the
                         // roots s of |front + s seg| = 1, clamped to [0, 1], each times qa

@@ -2,6 +2,7 @@
 //! loop it shares with the bitmask's mirror.
 
 use super::{march_ray, Pixels, Surface};
+use crate::passes::constants::GTAO_REACH;
 use crate::passes::prepare::centre;
 use glam::Vec3;
 
@@ -218,7 +219,7 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
             let full = f.view_position(centre(q), sd) - at.pos;
             let r2 = full.dot(full) * f.inv_radius2;
             let w = full - axis * full.dot(axis);
-            if r2 >= 1.0 || w.dot(w) <= 0.0 {
+            if r2 >= GTAO_REACH * GTAO_REACH || w.dot(w) <= 0.0 {
                 continue;
             }
             hc[side] = hc[side].max((w.dot(at.v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
