@@ -90,7 +90,8 @@ pub struct AoParams {
     /// assumes every object is this deep there (docs/thickness.md); the part of such a
     /// solid within the radius occludes, even where its front lies beyond it.
     /// `f32::INFINITY`: infinitely thick, GTAO's assumption (a sample counts where its
-    /// front lies within `GTAO_REACH` radii, passes/constants.rs). Range > 0. Default [`DEFAULT_THICKNESS`].
+    /// front lies within `GTAO_REACH` radii, passes/constants.rs). Range > 0. Default
+    /// [`DEFAULT_THICKNESS`].
     pub thickness: f32,
 }
 

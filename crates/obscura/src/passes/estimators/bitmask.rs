@@ -4,7 +4,7 @@
 //! clip nor the two ends' sectors need more than one division).
 
 use super::{slice_ao, slice_samples, GtaoSlice, Pixels};
-use crate::passes::constants::ACOS_POLY_FINE;
+use crate::passes::constants::{ACOS_POLY_FINE, GTAO_REACH};
 use crate::passes::prepare::centre;
 use glam::{Vec2, Vec3};
 #[cfg(test)]
@@ -138,9 +138,9 @@ pub(crate) fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> Vec
 /// the radius of `pos`, since the reference counts only hits within R. The front may lie
 /// beyond R when the solid reaches into the sphere from in front (a ledge above the
 /// centre). An infinitely thick solid (`back` infinite: GTAO's assumption) counts only
-/// where its front lies within GTAO_REACH radii (constants.rs) and reaches the hemisphere's edge (a `None` back). Ends
-/// relative to `pos`; `None` where nothing lies within R. Mirrors the clipping in
-/// bitmask.wgsl.
+/// where its front lies within GTAO_REACH radii (constants.rs) and reaches the
+/// hemisphere's edge (a `None` back). Ends relative to `pos`; `None` where nothing lies
+/// within R. Mirrors the clipping in bitmask.wgsl.
 pub(crate) fn clip_solid(
     f: &crate::passes::uniforms::FrameUniforms,
     at: [f32; 2],
@@ -151,8 +151,7 @@ pub(crate) fn clip_solid(
     let front0 = f.view_position(at, front) - pos;
     let c = front0.dot(front0) * f.inv_radius2 - 1.0;
     if !back.is_finite() {
-        let reach2 = crate::passes::constants::GTAO_REACH * crate::passes::constants::GTAO_REACH;
-        return (c < reach2 - 1.0).then_some((front0, None));
+        return (c < GTAO_REACH * GTAO_REACH - 1.0).then_some((front0, None));
     }
     // The roots s of |front0 + s seg| = R, clamped to [0, 1].
     let seg = f.view_position(at, back) - pos - front0;

@@ -8,8 +8,8 @@
 // the sectors between the directions of the ends of its stretch within R of the centre:
 // the ray-traced reference counts hits within R, and a solid whose front lies beyond R
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
-// infinitely thick solid counts where its front is within GTAO_REACH × R, as in GTAO. Sky and
-// off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
+// infinitely thick solid counts where its front is within GTAO_REACH × R, as in GTAO.
+// Sky and off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
 // costs a division where an angle costs an arc cosine (`sector_pair`). A slice's
 // visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
 // its runs of occluded sectors, exact between sector edges (`sectors_integral`), so with
