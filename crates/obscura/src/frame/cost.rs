@@ -82,8 +82,9 @@ const GTAO_SLICE: Work = work(0.0, 12.0, 130.0);
 /// snap to the lattice.
 const MARCH_STEP: Work = work(0.0, 0.0, 16.0);
 const MARCH_POW: Work = work(0.0, 2.0, 0.0);
-/// Per side of a step: the fetch, the view position, the in-slice horizon cosine.
-const GTAO_SIDE: Work = work(1.0, 1.0, 40.0);
+/// Per side of a step: the fetch, the view position, the in-slice horizon cosine and its
+/// falloff beyond R (`gtao_falloff`, a mix).
+const GTAO_SIDE: Work = work(1.0, 1.0, 46.0);
 /// The bitmask (bitmask.wgsl) per pixel beyond GTAO's: the positions in units of R.
 const BITMASK_PIXEL: Work = work(0.0, 1.0, 12.0);
 /// Per slice beyond GTAO's slice frame: the hemisphere's integral and the projections onto

@@ -109,16 +109,18 @@ pub const TENT_WEIGHTS: [f32; 3] = [1.0, 2.0, 1.0];
 /// Abramowitz & Stegun 4.4.45: acos(x) ≈ sqrt(1 − x)(a0 + a1 x + a2 x² + a3 x³) on [0, 1],
 /// |error| ≤ 5e-5 (GTAO's `fast_acos`, passes/estimators/gtao_arcs.wgsl, and its mirror).
 pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_729_3];
-/// GTAO's horizon reach, in radii: a sample's front counts as a horizon where it lies within
-/// GTAO_REACH × R of the centre (passes/estimators/gtao.wgsl). A surface seen just beyond R
-/// usually continues behind its front, into the sphere the ray-traced reference counts hits
-/// in (a ledge's top seen from above, a wall's far face), which the published test (R)
-/// leaves out: GTAO was too bright on every shared view (bias +0.008). The bitmask's
-/// thickness prior models that body exactly; GTAO's one horizon takes the front's
-/// direction. Chosen over all nine shared views (reach 1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.7:
-/// mean RMSE 0.0511, 0.0482, 0.0466, 0.0457, 0.0452, 0.0460, 0.0501): the largest reach at
-/// which no view is worse than with R; at 1.4 one view is worse by 0.0001 (docs/history.md).
-pub const GTAO_REACH: f32 = 1.3;
+/// The end of GTAO's horizon falloff, in radii (passes/estimators/gtao.wgsl). A sample's
+/// front within R counts in full, as the ray-traced reference counts hits within R. Beyond
+/// R it still counts in part: a surface seen beyond R usually continues behind its front,
+/// into the sphere (a ledge's top seen from above, a wall's far face), and the farther the
+/// front, the less likely that is. Its weight (`gtao_falloff`, gtao_arcs.wgsl) falls linearly in r² from 1
+/// at R to 0 at GTAO_FALLOFF_END × R, and lowers its horizon toward the tangent plane's
+/// (XeGTAO's falloff, moved beyond R). With the published test (every front within R,
+/// none beyond) GTAO was too bright on every shared view (bias +0.008). The bitmask's
+/// thickness prior models the body exactly; its infinitely thick case follows GTAO. Chosen
+/// over all nine shared views (end 1.6, 1.8, 2.0, 2.2, 2.5: mean RMSE 0.0452, 0.0440,
+/// 0.0437, 0.0441, 0.0456; a hard cut at 1.3 R 0.0457, at R 0.0511; docs/history.md).
+pub const GTAO_FALLOFF_END: f32 = 2.0;
 /// The bitmask's sectors a slice (passes/estimators/bitmask.wgsl): the bits of a `u32`.
 pub const SECTORS: u32 = 32;
 

@@ -89,8 +89,9 @@ pub struct AoParams {
     /// One depth layer cannot show how far an object extends away from the camera; this
     /// assumes every object is this deep there (docs/thickness.md); the part of such a
     /// solid within the radius occludes, even where its front lies beyond it.
-    /// `f32::INFINITY`: infinitely thick, GTAO's assumption (a sample counts where its
-    /// front lies within `GTAO_REACH` radii, passes/constants.rs). Range > 0. Default
+    /// `f32::INFINITY`: infinitely thick, GTAO's assumption (a sample's front counts in full
+    /// within the radius, in part up to `GTAO_FALLOFF_END` radii, passes/constants.rs).
+    /// Range > 0. Default
     /// [`DEFAULT_THICKNESS`].
     pub thickness: f32,
 }

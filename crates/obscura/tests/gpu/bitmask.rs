@@ -156,11 +156,12 @@ fn a_thin_prior_lightens_the_wall_behind_a_thin_strip() {
 }
 
 /// A plank 1.4 units above a floor, seen from above orthographically, radius 1. Its front
-/// lies beyond R of every floor pixel, so GTAO's rule (infinite thickness) and a thin
-/// prior leave the floor beside it open. With the prior of one radius the plank reaches
-/// down to 0.4 above the floor, within R of the floor beside it (under 0.6 away for the
-/// two columns next to it), so only the part of its solid inside that sphere
-/// darkens them; the floor far from the plank stays open either way.
+/// lies beyond R of every floor pixel, so a thin prior leaves the floor beside it open.
+/// With the prior of one radius the plank reaches down to 0.4 above the floor, within R of
+/// the floor beside it (under 0.6 away for the two columns next to it), so only the part
+/// of its solid inside that sphere darkens them; the floor far from the plank stays open
+/// either way. Infinitely thick, GTAO's rule counts its front in part (its falloff beyond
+/// R, to GTAO_FALLOFF_END = 2 radii), and not at all from 2.2 units above.
 #[test]
 fn a_solid_reaching_into_the_radius_from_in_front_occludes() {
     let _g = lock();
@@ -174,14 +175,22 @@ fn a_solid_reaching_into_the_radius_from_in_front_occludes() {
     };
     let mean = |v: &[f32], at: &[usize]| at.iter().map(|&i| v[i]).sum::<f32>() / at.len() as f32;
     let (beside, far) = (rows(&[28, 29, 34, 35]), rows(&[10, 11, 52, 53]));
-    for (thickness, what) in [(f32::INFINITY, "infinitely thick"), (0.2, "0.2 deep")] {
-        let a = ao(thickness);
+    let high = strip_ao(7.8, 1.0, f32::INFINITY);
+    for (a, what) in [
+        (&high, "infinitely thick 2.2 above"),
+        (&ao(0.2), "0.2 deep"),
+    ] {
         assert!(
-            mean(&a, &beside) > 0.99,
-            "a plank {what} is beyond R: {}",
-            mean(&a, &beside)
+            mean(a, &beside) > 0.99,
+            "a plank {what} is out of reach: {}",
+            mean(a, &beside)
         );
     }
+    let thick = mean(&ao(f32::INFINITY), &beside);
+    assert!(
+        (0.6..0.97).contains(&thick),
+        "a plank infinitely thick 1.4 above counts in part: {thick}"
+    );
     let a = ao(1.0);
     assert!(
         mean(&a, &beside) < 0.9,

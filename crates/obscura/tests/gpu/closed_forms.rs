@@ -18,10 +18,11 @@
 //!   1 − AO = (acos a − a √(1 − a²)) / π for a < 1, 0 beyond. GTAO's slices contain the
 //!   view vector (Jimenez et al. 2016); seen straight down, each slice meets the valley as
 //!   two lines at 90° or more, so its two horizons bound the occluded directions exactly
-//!   and its slice integral is the cosine-weighted one. GTAO counts a front within
-//!   GTAO_REACH × R (a surface seen beyond R usually has its body within it; these walls
-//!   have none) among the samples its march reaches, R on screen, so its answer lies
-//!   between the closed forms at R and at GTAO_REACH × R. The bitmask's
+//!   and its slice integral is the cosine-weighted one. GTAO counts a front within R in
+//!   full and beyond R in part, up to GTAO_FALLOFF_END × R (a surface seen beyond R
+//!   usually has its body within it; these walls have none), among the samples its march
+//!   reaches, R on screen, so its answer lies between the closed forms at R and at
+//!   GTAO_FALLOFF_END × R. The bitmask's
 //!   solids are entered through the wall's front face, so any finite thickness gives the
 //!   closed form at R; infinitely thick, it is GTAO.
 //!   VO (Loos & Sloan 2010) measures the share of a sphere of radius R about the point
@@ -45,7 +46,7 @@
 
 use super::{lock, run_linear};
 use glam::Vec3;
-use obscura::constants::GTAO_REACH;
+use obscura::constants::GTAO_FALLOFF_END;
 use obscura::{reference, AoOptions, AoParams, Estimator, Projection};
 use std::f32::consts::{PI, SQRT_2, TAU};
 
@@ -193,13 +194,14 @@ fn valley_expected_within(x: u32, radius: f32) -> Option<f32> {
         .then(|| 1.0 - crease_occlusion(SQRT_2 * vx / radius))
 }
 
-/// GTAO's horizon test takes a front within GTAO_REACH radii (constants.rs) among the
-/// samples its march reaches, R on screen. The walls, surfaces of the ground, have no body
-/// behind their faces for that reach to find, so its integral lies between the closed
-/// form at R (every counted front within R) and at GTAO_REACH × R (the march reaching every
-/// front within that): `ao`'s value clamped to that range, for `worst`.
+/// GTAO's horizons take fronts within R in full and beyond it in part, up to
+/// GTAO_FALLOFF_END radii (constants.rs), among the samples its march reaches, R on
+/// screen. The walls, surfaces of the ground, have no body behind their faces for that
+/// falloff to find, so its integral lies between the closed form at R (every counted front
+/// within R) and at GTAO_FALLOFF_END × R (every front within that counted in full): `ao`'s
+/// value clamped to that range, for `worst`.
 fn valley_bracket(ao: &[f32], x: u32) -> Option<f32> {
-    let lo = valley_expected_within(x, GTAO_REACH * R)?;
+    let lo = valley_expected_within(x, GTAO_FALLOFF_END * R)?;
     let hi = valley_expected_within(x, R)?;
     Some(ao[((H / 2) * W + x) as usize].clamp(lo, hi))
 }
@@ -216,7 +218,7 @@ fn gtao_meets_the_crease_closed_form() {
         let (d, x) = worst(ao, |x| valley_bracket(ao, x));
         assert!(
             d <= INTEGRAL_TOL,
-            "GTAO {which}: {d} outside the closed forms at R and {GTAO_REACH} R at column {x} \
+            "GTAO {which}: {d} outside the closed forms at R and {GTAO_FALLOFF_END} R at column {x} \
              (x = {}; AO {})",
             view_x(x),
             ao[((H / 2) * W + x) as usize],
@@ -237,7 +239,7 @@ fn the_bitmask_meets_the_crease_closed_form_at_any_thickness() {
         };
         let options = AoOptions::screen_reference(Estimator::Bitmask);
         let (gpu, cpu) = ao_both(&valley(), options, &p);
-        // Infinitely thick, the bitmask is GTAO: fronts within GTAO_REACH radii.
+        // Infinitely thick, the bitmask is GTAO, with its falloff beyond R.
         for (which, ao) in [("gpu", &gpu), ("mirror", &cpu)] {
             let (d, x) = if thickness.is_finite() {
                 worst(ao, valley_expected)

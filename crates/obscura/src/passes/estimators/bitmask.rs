@@ -3,8 +3,8 @@
 //! the slice's tangent and normal once, and scales the clipped ends so that neither the
 //! clip nor the two ends' sectors need more than one division).
 
-use super::{slice_ao, slice_samples, GtaoSlice, Pixels};
-use crate::passes::constants::{ACOS_POLY_FINE, GTAO_REACH};
+use super::{gtao_falloff, mix, slice_ao, slice_samples, GtaoSlice, Pixels};
+use crate::passes::constants::{ACOS_POLY_FINE, GTAO_FALLOFF_END};
 use crate::passes::prepare::centre;
 use glam::{Vec2, Vec3};
 #[cfg(test)]
@@ -138,8 +138,8 @@ pub(crate) fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> Vec
 /// the radius of `pos`, since the reference counts only hits within R. The front may lie
 /// beyond R when the solid reaches into the sphere from in front (a ledge above the
 /// centre). An infinitely thick solid (`back` infinite: GTAO's assumption) counts only
-/// where its front lies within GTAO_REACH radii (constants.rs) and reaches the
-/// hemisphere's edge (a `None` back). Ends relative to `pos`; `None` where nothing lies
+/// where its front lies within GTAO_FALLOFF_END radii (constants.rs) and reaches the
+/// hemisphere's edge (a `None` back; beyond R its front is lowered by `falloff_front`). Ends relative to `pos`; `None` where nothing lies
 /// within R. Mirrors the clipping in bitmask.wgsl.
 pub(crate) fn clip_solid(
     f: &crate::passes::uniforms::FrameUniforms,
@@ -151,7 +151,8 @@ pub(crate) fn clip_solid(
     let front0 = f.view_position(at, front) - pos;
     let c = front0.dot(front0) * f.inv_radius2 - 1.0;
     if !back.is_finite() {
-        return (c < GTAO_REACH * GTAO_REACH - 1.0).then_some((front0, None));
+        let end2 = GTAO_FALLOFF_END * GTAO_FALLOFF_END;
+        return (c < end2 - 1.0).then_some((front0, None));
     }
     // The roots s of |front0 + s seg| = R, clamped to [0, 1].
     let seg = f.view_position(at, back) - pos - front0;
@@ -162,6 +163,16 @@ pub(crate) fn clip_solid(
     let s0 = ((-qb - sq) / qa).max(0.0);
     let s1 = ((-qb + sq) / qa).min(1.0);
     (qa > 0.0 && disc > 0.0 && s1 > s0).then(|| (front0 + seg * s0, Some(front0 + seg * s1)))
+}
+
+/// An infinitely thick front beyond R, its direction `w` in (ortho, V) coordinates on side
+/// `sgn`, at `r2` radii² from the centre: the direction whose cosine to V is GTAO's horizon
+/// there (mirrors `falloff_front` in bitmask.wgsl, which works in the slice's tangent and
+/// normal frame).
+fn falloff_front(w: Vec2, sgn: f32, r2: f32, sin_n: f32) -> Vec2 {
+    let c = (w.y / w.length()).clamp(-1.0, 1.0);
+    let h = mix(-sgn * sin_n, c, gtao_falloff(r2));
+    Vec2::new(sgn * (1.0 - h * h).max(0.0).sqrt(), h)
 }
 
 /// Bits `[a, b)` (none where a ≥ b); bitmask.wgsl sets and clears runs with `insertBits`.
@@ -239,9 +250,13 @@ pub fn bitmask_pixel_solids(
                 let Some((front, back)) = clip_solid(f, c, at.pos, sd, sb) else {
                     continue;
                 };
-                let wf = in_slice(front);
+                let mut wf = in_slice(front);
                 if wf.dot(wf) <= 0.0 {
                     continue;
+                }
+                let r2 = front.dot(front) * f.inv_radius2;
+                if back.is_none() && r2 > 1.0 {
+                    wf = falloff_front(wf, sgn, r2, sin_n);
                 }
                 let uf = sector_of(wf, sgn, tangent, normal2);
                 let mut ub = if sgn > 0.0 { SECTORS } else { 0.0 };
@@ -319,11 +334,11 @@ mod tests {
             );
             assert!((a.x - dx).abs() < 1e-4 && (b.x - dx).abs() < 1e-4);
         }
-        // In front of the sphere, beside it, and infinitely thick from beyond GTAO_REACH
-        // radii (5.4 > 5.2) in front of it.
+        // In front of the sphere, beside it, and infinitely thick from beyond
+        // GTAO_FALLOFF_END radii (9.2 > 8) in front of it.
         assert!(clip_solid(&f, [18.5, 16.5], pos, 3.0, 6.0).is_none());
         assert!(clip_solid(&f, [21.5, 16.5], pos, 8.0, 12.0).is_none());
-        assert!(clip_solid(&f, [18.5, 16.5], pos, 5.0, f32::INFINITY).is_none());
+        assert!(clip_solid(&f, [18.5, 16.5], pos, 1.0, f32::INFINITY).is_none());
         // A solid of no depth.
         assert!(clip_solid(&f, [18.5, 16.5], pos, 9.0, 9.0).is_none());
         // Infinitely thick from within R: the front as it is, no back.

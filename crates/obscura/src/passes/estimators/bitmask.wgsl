@@ -8,7 +8,8 @@
 // the sectors between the directions of the ends of its stretch within R of the centre:
 // the ray-traced reference counts hits within R, and a solid whose front lies beyond R
 // (a ledge above the centre, seen from above) can still reach into that sphere. An
-// infinitely thick solid counts where its front is within GTAO_REACH × R, as in GTAO.
+// infinitely thick solid counts from GTAO's horizon, with its falloff beyond R
+// (`falloff_front`), as in GTAO.
 // Sky and off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
 // costs a division where an angle costs an arc cosine (`sector_pair`). A slice's
 // visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
@@ -80,6 +81,17 @@ fn sector_pair(w0: vec2<f32>, w1: vec2<f32>, s: f32) -> vec2<f32> {
     let r = 1.0 / (d0 * d1);
     let p = vec2<f32>(select(w0.x * d1 * r, s, w0.y <= 0.0), select(w1.x * d0 * r, s, w1.y <= 0.0));
     return p * (0.5 * SECTORS_F) + 0.5 * SECTORS_F;
+}
+
+// An infinitely thick front beyond R, its direction `w` in the slice's (tangent, normal)
+// frame on side `sgn`, at `r2` radii² from the centre: the direction whose cosine to V is
+// GTAO's horizon there, the front's mixed toward the tangent plane's by `gtao_falloff`, so
+// that infinitely thick, the bitmask is GTAO. Mirror: `falloff_front`.
+fn falloff_front(w: vec2<f32>, sgn: f32, r2: f32, cos_n: f32, sin_n: f32) -> vec2<f32> {
+    let c = clamp((cos_n * w.y - sin_n * w.x) * inverseSqrt(dot(w, w)), -1.0, 1.0);
+    let h = mix(-sgn * sin_n, c, gtao_falloff(r2));
+    let o = sgn * sqrt(max(1.0 - h * h, 0.0));
+    return vec2<f32>(cos_n * o - sin_n * h, sin_n * o + cos_n * h);
 }
 
 // 32 bits hold at most 16 runs of set bits: the bound of the loops over runs below
@@ -237,7 +249,10 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     // reaches its side's edge (b <= 0 reads as the edge in `sector_pair`).
                     var fa = front.xy;
                     var ba = vec2<f32>(sgn, -1.0);
-                    var inside = c < GTAO_REACH * GTAO_REACH - 1.0;
+                    var inside = c < GTAO_FALLOFF_END * GTAO_FALLOFF_END - 1.0;
+                    if thickness <= 0.0 && c > 0.0 {
+                        fa = falloff_front(fa, sgn, c + 1.0, cos_n, sin_n);
+                    }
                     if thickness > 0.0 {
                         // The solid's stretch of the view ray within R of the centre: the
                         // roots s of |front + s seg| = 1, clamped to [0, 1], each times qa

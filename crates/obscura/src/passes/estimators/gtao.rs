@@ -2,7 +2,7 @@
 //! loop it shares with the bitmask's mirror.
 
 use super::{march_ray, Pixels, Surface};
-use crate::passes::constants::GTAO_REACH;
+use crate::passes::constants::GTAO_FALLOFF_END;
 use crate::passes::prepare::centre;
 use glam::Vec3;
 
@@ -17,6 +17,19 @@ fn fast_acos(x: f32) -> f32 {
     } else {
         r
     }
+}
+
+/// A front's weight as a horizon at squared distance `r2` (radii²) from the centre: 1
+/// within R, 0 from GTAO_FALLOFF_END radii; mirrors `gtao_falloff` in
+/// passes/estimators/gtao_arcs.wgsl.
+pub(crate) fn gtao_falloff(r2: f32) -> f32 {
+    let end2 = GTAO_FALLOFF_END * GTAO_FALLOFF_END;
+    ((end2 - r2) * (1.0 / (end2 - 1.0))).clamp(0.0, 1.0)
+}
+
+/// WGSL's `mix`: `a` where `t` is 0, `b` where it is 1.
+pub(crate) fn mix(a: f32, b: f32, t: f32) -> f32 {
+    a * (1.0 - t) + b * t
 }
 
 /// One side's visible arc of a GTAO slice; mirrors `gtao_side` in passes/estimators/gtao_arcs.wgsl.
@@ -208,7 +221,8 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
             sin_n,
             ..
         } = at.slice;
-        let mut hc = [-sin_n, sin_n];
+        let low = [-sin_n, sin_n];
+        let mut hc = low;
         for (side, q) in slice_samples(px, p, at, pattern[2]) {
             let Some(sd) = px.depth_at(q) else {
                 continue;
@@ -219,10 +233,11 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
             let full = f.view_position(centre(q), sd) - at.pos;
             let r2 = full.dot(full) * f.inv_radius2;
             let w = full - axis * full.dot(axis);
-            if r2 >= GTAO_REACH * GTAO_REACH || w.dot(w) <= 0.0 {
+            if r2 >= GTAO_FALLOFF_END * GTAO_FALLOFF_END || w.dot(w) <= 0.0 {
                 continue;
             }
-            hc[side] = hc[side].max((w.dot(at.v) / w.dot(w).sqrt()).clamp(-1.0, 1.0));
+            let c = (w.dot(at.v) / w.dot(w).sqrt()).clamp(-1.0, 1.0);
+            hc[side] = hc[side].max(mix(low[side], c, gtao_falloff(r2)));
         }
         let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
         let b = gtao_bent(hc[0], 1.0, n, cos_n, sin_n) + gtao_bent(hc[1], -1.0, n, cos_n, sin_n);

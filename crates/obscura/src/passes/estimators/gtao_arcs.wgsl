@@ -1,6 +1,7 @@
 // GTAO's slice geometry and closed-form arcs (Jimenez, Wu, Pesce & Jarabo 2016), shared by
 // the AO estimator (gtao.wgsl) and the directional-occlusion bounce (ssdo_bounce.wgsl).
-// CPU mirror: src/reference.rs (`fast_acos`, `gtao_side`, `gtao_bent`, `gtao_slice`).
+// CPU mirror: src/reference.rs (`fast_acos`, `gtao_falloff`, `gtao_side`, `gtao_bent`,
+// `gtao_slice`).
 
 const PI: f32 = 3.141592653589793;
 const HALF_PI: f32 = 1.5707963267948966;
@@ -12,6 +13,14 @@ fn fast_acos(x: f32) -> f32 {
     let a = abs(x);
     let r = sqrt(1.0 - a) * (ACOS_POLY[0] + a * (ACOS_POLY[1] + a * (ACOS_POLY[2] + a * ACOS_POLY[3])));
     return select(r, PI - r, x < 0.0);
+}
+
+// A front's weight as a horizon at squared distance `r2` (radii²) from the centre: 1 within
+// R, falling linearly in r² to 0 at GTAO_FALLOFF_END radii (constants.rs); the horizon is
+// mixed toward the tangent plane's by it. Mirror: `reference::gtao_falloff`.
+fn gtao_falloff(r2: f32) -> f32 {
+    let end2 = GTAO_FALLOFF_END * GTAO_FALLOFF_END;
+    return clamp((end2 - r2) * (1.0 / (end2 - 1.0)), 0.0, 1.0);
 }
 
 // One side's cosine-weighted visible arc (Jimenez et al., eq. 10): from the normal's angle

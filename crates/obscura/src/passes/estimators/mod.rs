@@ -5,8 +5,10 @@
 mod bitmask;
 mod gtao;
 pub use bitmask::{bitmask_pixel, bitmask_pixel_bent, bitmask_pixel_solids, Solids};
+pub(crate) use gtao::{
+    gtao_falloff, gtao_side, gtao_slice, mix, slice_ao, slice_samples, GtaoSlice,
+};
 pub use gtao::{gtao_pixel, gtao_pixel_bent};
-pub(crate) use gtao::{gtao_side, gtao_slice, slice_ao, slice_samples, GtaoSlice};
 
 use crate::passes::prepare::centre;
 use crate::passes::pyramid::{moments, pyramid, PyramidLevel};

@@ -75,7 +75,7 @@ pub fn prelude() -> String {
          const SSDO_SELF_TOLERANCE: f32 = {SSDO_SELF_TOLERANCE:?};\n\
          const SH9_SCALE: array<f32, 5> = array<f32, 5>({});\n\
          const SECTORS: u32 = {SECTORS}u;\n\
-         const GTAO_REACH: f32 = {GTAO_REACH:?};\n\
+         const GTAO_FALLOFF_END: f32 = {GTAO_FALLOFF_END:?};\n\
          {}{}{}{}",
         wgsl_floats(&IGN_WEIGHTS),
         wgsl_floats(&TENT_WEIGHTS),
