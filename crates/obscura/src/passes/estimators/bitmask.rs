@@ -139,8 +139,9 @@ pub(crate) fn bitmask_bent(occluded: u32, n: f32, cos_n: f32, sin_n: f32) -> Vec
 /// beyond R when the solid reaches into the sphere from in front (a ledge above the
 /// centre). An infinitely thick solid (`back` infinite: GTAO's assumption) counts only
 /// where its front lies within GTAO_FALLOFF_END radii (constants.rs) and reaches the
-/// hemisphere's edge (a `None` back; beyond R its front is lowered by `falloff_front`). Ends relative to `pos`; `None` where nothing lies
-/// within R. Mirrors the clipping in bitmask.wgsl.
+/// hemisphere's edge (a `None` back; beyond R the caller lowers its front by
+/// `falloff_front`). Ends relative to `pos`; `None` where nothing lies within R. Mirrors the
+/// clipping in bitmask.wgsl.
 pub(crate) fn clip_solid(
     f: &crate::passes::uniforms::FrameUniforms,
     at: [f32; 2],
