@@ -91,8 +91,7 @@ pub struct AoParams {
     /// solid within the radius occludes, even where its front lies beyond it.
     /// `f32::INFINITY`: infinitely thick, GTAO's assumption (a sample's front counts in full
     /// within the radius, in part up to `GTAO_FALLOFF_END` radii, passes/constants.rs).
-    /// Range > 0. Default
-    /// [`DEFAULT_THICKNESS`].
+    /// Range > 0. Default [`DEFAULT_THICKNESS`].
     pub thickness: f32,
 }
 

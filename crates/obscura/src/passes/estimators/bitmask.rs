@@ -340,11 +340,40 @@ mod tests {
         assert!(clip_solid(&f, [18.5, 16.5], pos, 3.0, 6.0).is_none());
         assert!(clip_solid(&f, [21.5, 16.5], pos, 8.0, 12.0).is_none());
         assert!(clip_solid(&f, [18.5, 16.5], pos, 1.0, f32::INFINITY).is_none());
+        // Infinitely thick from between R and GTAO_FALLOFF_END radii (5.4): kept, for its
+        // caller's falloff.
+        let (a, b) = clip_solid(&f, [18.5, 16.5], pos, 5.0, f32::INFINITY).unwrap();
+        assert!((depth(a) - 5.0).abs() < 1e-4 && b.is_none());
         // A solid of no depth.
         assert!(clip_solid(&f, [18.5, 16.5], pos, 9.0, 9.0).is_none());
         // Infinitely thick from within R: the front as it is, no back.
         let (a, b) = clip_solid(&f, [18.5, 16.5], pos, 9.0, f32::INFINITY).unwrap();
         assert!((depth(a) - 9.0).abs() < 1e-4 && b.is_none());
+    }
+
+    /// `falloff_front` against GTAO's mixed horizon: the direction's cosine to V is
+    /// mix(low, c, k) on the front's own side, so within R (k = 1) the front's own direction
+    /// and at the falloff's end (k = 0) the tangent plane's, (sgn cos n, −sgn sin n) in
+    /// (ortho, V). Tolerance 1e-5.
+    #[test]
+    fn falloff_front_mixes_the_horizon_toward_the_tangent_plane() {
+        let end2 = GTAO_FALLOFF_END * GTAO_FALLOFF_END;
+        for (n, sgn) in [(0.3f32, 1.0f32), (0.3, -1.0), (-0.7, 1.0), (-0.7, -1.0)] {
+            let (sin_n, cos_n) = n.sin_cos();
+            let w = Vec2::new(sgn * 2.0, 1.5);
+            let c = w.y / w.length();
+            let near = falloff_front(w, sgn, 1.0, sin_n);
+            assert!((near - w.normalize()).length() < 1e-5, "{n} {sgn}: {near}");
+            let far = falloff_front(w, sgn, end2, sin_n);
+            let edge = Vec2::new(sgn * cos_n, -sgn * sin_n);
+            assert!((far - edge).length() < 1e-5, "{n} {sgn}: {far} vs {edge}");
+            let half = falloff_front(w, sgn, (1.0 + end2) / 2.0, sin_n);
+            let h = (-sgn * sin_n + c) / 2.0;
+            assert!(
+                (half.y - h).abs() < 1e-5 && half.x * sgn > 0.0,
+                "{n} {sgn}: {half}"
+            );
+        }
     }
 
     /// The sector edges' angle (A&S 4.4.46's arc cosine), cosine and sine agree with

@@ -250,9 +250,6 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     var fa = front.xy;
                     var ba = vec2<f32>(sgn, -1.0);
                     var inside = c < GTAO_FALLOFF_END * GTAO_FALLOFF_END - 1.0;
-                    if thickness <= 0.0 && c > 0.0 {
-                        fa = falloff_front(fa, sgn, c + 1.0, cos_n, sin_n);
-                    }
                     if thickness > 0.0 {
                         // The solid's stretch of the view ray within R of the centre: the
                         // roots s of |front + s seg| = 1, clamped to [0, 1], each times qa
@@ -269,6 +266,9 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                     }
                     if !inside || all(fa == vec2<f32>(0.0)) {
                         continue;
+                    }
+                    if thickness <= 0.0 && c > 0.0 {
+                        fa = falloff_front(fa, sgn, c + 1.0, cos_n, sin_n);
                     }
                     let u = sector_pair(fa, ba, sgn);
                     let a = u32(round(min(u.x, u.y)));

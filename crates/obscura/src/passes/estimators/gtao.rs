@@ -250,6 +250,23 @@ mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
 
+    /// The falloff's definition: 1 within R, 0 from GTAO_FALLOFF_END radii, linear in r²
+    /// between (a half at the middle of r²'s range). Tolerance 1e-6.
+    #[test]
+    fn gtao_falloff_is_linear_in_r2_from_r_to_its_end() {
+        let end2 = GTAO_FALLOFF_END * GTAO_FALLOFF_END;
+        for (r2, want) in [
+            (0.0, 1.0),
+            (1.0, 1.0),
+            ((1.0 + end2) / 2.0, 0.5),
+            (end2, 0.0),
+        ] {
+            let k = gtao_falloff(r2);
+            assert!((k - want).abs() < 1e-6, "r² {r2}: {k} against {want}");
+        }
+        assert_eq!(gtao_falloff(end2 * 2.0), 0.0);
+    }
+
     #[test]
     fn fast_acos_is_within_its_stated_bound() {
         let mut worst = 0.0f64;

@@ -7,8 +7,8 @@
 // the highest horizon (largest cos between the sample vector and the view vector V).
 // Sky and off-screen samples are ignored. A front within R counts in full, as the ray-traced
 // reference counts hits within R; beyond it, the front's horizon is mixed toward the
-// tangent plane's by a falloff that reaches 0 at GTAO_FALLOFF_END × R (gtao_falloff,
-// constants.rs): a front seen beyond R usually has its body within R, which the published
+// tangent plane's by a falloff that reaches 0 at GTAO_FALLOFF_END × R (`gtao_falloff`,
+// gtao_arcs.wgsl; the constant in constants.rs): a front seen beyond R usually has its body within R, which the published
 // test at R leaves out (too bright on every shared view). The horizons are clamped
 // to the normal's hemisphere and the cosine-weighted visible arc is integrated in closed
 // form, weighted by the projected normal's length. Slices are spaced evenly in screen
