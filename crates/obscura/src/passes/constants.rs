@@ -116,11 +116,11 @@ pub const ACOS_POLY: [f32; 4] = [1.570_728_8, -0.212_114_4, 0.074_261, -0.018_72
 /// front, the less likely that is. Its weight (`gtao_falloff`, gtao_arcs.wgsl) falls
 /// linearly in r² from 1 at R to 0 at GTAO_FALLOFF_END × R and mixes its horizon toward
 /// the tangent plane's, as XeGTAO mixes toward its low horizon (there linear in distance,
-/// and within R). With the published test (every front within R,
-/// none beyond) GTAO was too bright on every shared view (bias +0.008). The bitmask's
-/// thickness prior models the body exactly; its infinitely thick case follows GTAO. Chosen
-/// over all nine shared views (end 1.6, 1.8, 2.0, 2.2, 2.5: mean RMSE 0.0452, 0.0440,
-/// 0.0437, 0.0441, 0.0456; a hard cut at 1.3 R 0.0457, at R 0.0511; docs/history.md).
+/// and within R). With the published test (every front within R, none beyond) GTAO was
+/// too bright on every shared view (bias +0.008). The bitmask's thickness prior models
+/// the body exactly; its infinitely thick case follows GTAO. Chosen over all nine shared
+/// views (end 1.6, 1.8, 2.0, 2.2, 2.5: mean RMSE 0.0452, 0.0440, 0.0437, 0.0441, 0.0456;
+/// a hard cut at 1.3 R 0.0457, at R 0.0511; docs/history.md).
 pub const GTAO_FALLOFF_END: f32 = 2.0;
 /// The bitmask's sectors a slice (passes/estimators/bitmask.wgsl): the bits of a `u32`.
 pub const SECTORS: u32 = 32;

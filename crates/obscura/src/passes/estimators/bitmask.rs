@@ -255,9 +255,11 @@ pub fn bitmask_pixel_solids(
                 if wf.dot(wf) <= 0.0 {
                     continue;
                 }
-                let r2 = front.dot(front) * f.inv_radius2;
-                if back.is_none() && r2 > 1.0 {
-                    wf = falloff_front(wf, sgn, r2, sin_n);
+                if back.is_none() {
+                    let r2 = front.dot(front) * f.inv_radius2;
+                    if r2 > 1.0 {
+                        wf = falloff_front(wf, sgn, r2, sin_n);
+                    }
                 }
                 let uf = sector_of(wf, sgn, tangent, normal2);
                 let mut ub = if sgn > 0.0 { SECTORS } else { 0.0 };

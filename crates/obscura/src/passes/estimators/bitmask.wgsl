@@ -2,24 +2,21 @@
 // Visibility Bitmask", 2023): the estimator only; composed like gtao.wgsl, after
 // gtao_arcs.wgsl (the slice frame and `fast_acos`).
 //
-// GTAO's slices and samples, but a slice keeps a 32-bit field of occluded sectors instead
-// of two horizons. A sample is a solid from its front (the depth seen) to its back (the
-// front pushed away from the camera by the thickness prior, frame.model.x), and occludes
-// the sectors between the directions of the ends of its stretch within R of the centre:
-// the ray-traced reference counts hits within R, and a solid whose front lies beyond R
-// (a ledge above the centre, seen from above) can still reach into that sphere. An
-// infinitely thick solid counts from GTAO's horizon, with its falloff beyond R
-// (`falloff_front`), as in GTAO.
-// Sky and off-screen samples are ignored. The sectors are equal steps of a pseudo-angle, which
-// costs a division where an angle costs an arc cosine (`sector_pair`). A slice's
-// visibility is its cosine-weighted integral (Jimenez et al. 2016, eq. 10) less that over
-// its runs of occluded sectors, exact between sector edges (`sectors_integral`), so with
-// infinite thickness the estimate is GTAO's with each horizon rounded to the nearest
-// sector edge; the rounding has no sign. Slice weights and the final mapping are GTAO's;
-// so is the bent normal, integrated over the clear runs (`bitmask_bent`). With a second
-// depth layer (AoOptions::second_layer) a sample is two solids, the second from the
-// surface behind the first (second_layer.wgsl). CPU mirror: passes/estimators/bitmask.rs,
-// `bitmask_pixel`.
+// GTAO's slices and samples, but a slice keeps a 32-bit field of occluded sectors instead of two
+// horizons. A sample is a solid from its front (the depth seen) to its back (the front pushed away
+// from the camera by the thickness prior, frame.model.x), and occludes the sectors between the
+// directions of the ends of its stretch within R of the centre: the ray-traced reference counts
+// hits within R, and a solid whose front lies beyond R (a ledge above the centre, seen from above)
+// can still reach into that sphere. An infinitely thick solid counts from GTAO's horizon, with its
+// falloff beyond R (`falloff_front`), as in GTAO. Sky and off-screen samples are ignored. The
+// sectors are equal steps of a pseudo-angle, which costs a division where an angle costs an arc
+// cosine (`sector_pair`). A slice's visibility is its cosine-weighted integral (Jimenez et al.
+// 2016, eq. 10) less that over its runs of occluded sectors, exact between sector edges
+// (`sectors_integral`), so with infinite thickness the estimate is GTAO's with each horizon rounded
+// to the nearest sector edge; the rounding has no sign. Slice weights and the final mapping are
+// GTAO's; so is the bent normal, integrated over the clear runs (`bitmask_bent`). With a second
+// depth layer (AoOptions::second_layer) a sample is two solids, the second from the surface behind
+// the first (second_layer.wgsl). CPU mirror: passes/estimators/bitmask.rs, `bitmask_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;

@@ -233,11 +233,12 @@ pub fn gtao_pixel_bent(px: &Pixels, p: [i32; 2], pattern: [f32; 4]) -> (f32, Vec
             let full = f.view_position(centre(q), sd) - at.pos;
             let r2 = full.dot(full) * f.inv_radius2;
             let w = full - axis * full.dot(axis);
-            if r2 >= GTAO_FALLOFF_END * GTAO_FALLOFF_END || w.dot(w) <= 0.0 {
+            let k = gtao_falloff(r2);
+            if k <= 0.0 || w.dot(w) <= 0.0 {
                 continue;
             }
             let c = (w.dot(at.v) / w.dot(w).sqrt()).clamp(-1.0, 1.0);
-            hc[side] = hc[side].max(mix(low[side], c, gtao_falloff(r2)));
+            hc[side] = hc[side].max(mix(low[side], c, k));
         }
         let arcs = gtao_side(hc[0], 1.0, n, cos_n, sin_n) + gtao_side(hc[1], -1.0, n, cos_n, sin_n);
         let b = gtao_bent(hc[0], 1.0, n, cos_n, sin_n) + gtao_bent(hc[1], -1.0, n, cos_n, sin_n);

@@ -5,11 +5,12 @@
 //
 // For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep
 // the highest horizon (largest cos between the sample vector and the view vector V).
-// Sky and off-screen samples are ignored. A front within R counts in full, as the ray-traced
-// reference counts hits within R; beyond it, the front's horizon is mixed toward the
-// tangent plane's by a falloff that reaches 0 at GTAO_FALLOFF_END × R (`gtao_falloff`,
-// gtao_arcs.wgsl; the constant in constants.rs): a front seen beyond R usually has its body within R, which the published
-// test at R leaves out (too bright on every shared view). The horizons are clamped
+// Sky and off-screen samples are ignored. A front within R counts in full, as the
+// ray-traced reference counts hits within R; beyond it, the front's horizon is mixed toward
+// the tangent plane's by a falloff that reaches 0 at GTAO_FALLOFF_END × R (`gtao_falloff`,
+// gtao_arcs.wgsl; the constant in constants.rs): a front seen beyond R usually has its
+// body within R, which the published test at R leaves out (too bright on every shared
+// view). The horizons are clamped
 // to the normal's hemisphere and the cosine-weighted visible arc is integrated in closed
 // form, weighted by the projected normal's length. Slices are spaced evenly in screen
 // angle, which is not even in azimuth around V off the image centre; each slice is weighted
@@ -93,10 +94,10 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 // Pixel snapping moves samples slightly off the slice plane, where a plane's
                 // points can rise above its in-slice horizon: measure in the slice plane.
                 let w = full - axis * dot(full, axis);
-                if r2 >= GTAO_FALLOFF_END * GTAO_FALLOFF_END || dot(w, w) <= 0.0 {
+                let k = gtao_falloff(r2);
+                if k <= 0.0 || dot(w, w) <= 0.0 {
                     continue;
                 }
-                let k = gtao_falloff(r2);
                 let c = clamp(dot(w, v) * inverseSqrt(dot(w, w)), -1.0, 1.0);
                 if side == 0 {
                     hc0 = max(hc0, mix(-sin_n, c, k));
