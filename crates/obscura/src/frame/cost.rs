@@ -82,9 +82,10 @@ const GTAO_SLICE: Work = work(0.0, 12.0, 130.0);
 /// snap to the lattice.
 const MARCH_STEP: Work = work(0.0, 0.0, 16.0);
 const MARCH_POW: Work = work(0.0, 2.0, 0.0);
-/// Per side of a step: the fetch, the view position, the in-slice horizon cosine and its
+/// Per side of a step: the fetch, the view position (a multiply-add from the centre's), the
+/// in-slice horizon cosine (the distance from the slice plane by one dot product) and its
 /// falloff beyond R (`gtao_falloff`, a mix).
-const GTAO_SIDE: Work = work(1.0, 1.0, 46.0);
+const GTAO_SIDE: Work = work(1.0, 1.0, 35.0);
 /// The bitmask (bitmask.wgsl) per pixel beyond GTAO's: the positions in units of R.
 const BITMASK_PIXEL: Work = work(0.0, 1.0, 12.0);
 /// Per slice beyond GTAO's slice frame: the hemisphere's integral and the projections onto

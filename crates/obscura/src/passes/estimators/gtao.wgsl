@@ -41,6 +41,10 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     }
     let step_px = march_step_px(d, STEPS);
     let size = vec2<i32>(frame.size);
+    // view_position(q, 1) is linear in q (common.wgsl): its xy at the centre and per pixel
+    // of offset, so a sample's position costs a multiply-add (as in bitmask.wgsl).
+    let unit_p = view_position(vec2<f32>(p) + 0.5, 1.0).xy;
+    let unit_dq = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view;
     var visibility = 0.0;
     var weights = 0.0;
     var bent = vec3<f32>(0.0);
@@ -77,10 +81,13 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
             if all(off == vec2<i32>(0)) {
                 continue;
             }
+            let step_xy = unit_dq * vec2<f32>(off);
             for (var side = 0; side < 2; side++) {
                 var q = p + off;
+                var xy = unit_p + step_xy;
                 if side == 1 {
                     q = p - off;
+                    xy = unit_p - step_xy;
                 }
                 if any(q < vec2<i32>(0)) || any(q >= size) {
                     continue;
@@ -89,16 +96,23 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
                 if sd <= 0.0 {
                     continue;
                 }
-                let full = view_position(vec2<f32>(q) + 0.5, sd) - pos;
-                let r2 = dot(full, full) * frame.inv_radius2;
+                if frame.perspective != 0u {
+                    xy *= sd;
+                }
+                let full = vec3<f32>(xy, -sd) - pos;
+                let f2 = dot(full, full);
                 // Pixel snapping moves samples slightly off the slice plane, where a plane's
-                // points can rise above its in-slice horizon: measure in the slice plane.
-                let w = full - axis * dot(full, axis);
-                let k = gtao_falloff(r2);
-                if k <= 0.0 || dot(w, w) <= 0.0 {
+                // points can rise above its in-slice horizon: measure in the slice plane,
+                // w = full - axis (full . axis), with |w|² = |full|² - (full . axis)² and
+                // w . V = full . V (the axis is orthogonal to V).
+                let along = dot(full, axis);
+                let w2 = f2 - along * along;
+                let k = gtao_falloff(f2 * frame.inv_radius2);
+                if k <= 0.0 || w2 <= 0.0 {
                     continue;
                 }
-                let c = clamp(dot(w, v) * inverseSqrt(dot(w, w)), -1.0, 1.0);
+                // Above 1 only by rounding; below -1 it cannot raise the horizon.
+                let c = min(dot(full, v) * inverseSqrt(w2), 1.0);
                 if side == 0 {
                     hc0 = max(hc0, mix(-sin_n, c, k));
                 } else {
