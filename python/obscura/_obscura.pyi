@@ -85,8 +85,8 @@ def ambient_occlusion(
         more accurate than GTAO from depth alone at about 1.25x its time), "gtao", "hbao",
         "vo", "vao", "sao" or "vo-area".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel;
-        high with GTAO or the bitmask at full or randomized half resolution: 30, three
-        slices of five steps crowded toward the centre).
+        high with GTAO or the bitmask at full or randomized half resolution: 36, three
+        slices of six steps crowded toward the centre).
     resolution: "full", "half" or "quarter".
     denoise: "spatial", "none", "box" or "tent".
     frames: still-camera frames accumulated, 1..=100000 (1: one frame); each call starts

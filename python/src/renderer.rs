@@ -10,7 +10,7 @@ use super::*;
 ///         more accurate than GTAO from depth alone at about 1.25x its time; its thickness
 ///         prior: `render`'s `thickness`), "gtao", "hbao", "vo", "vao", "sao" or "vo-area".
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel
-///         (high with GTAO or the bitmask at full resolution: 30, three slices of five steps
+///         (high with GTAO or the bitmask at full resolution: 36, three slices of six steps
 ///         crowded toward the centre).
 ///     resolution: "full" (default), "half" or "quarter".
 ///     denoise: "spatial" (default), "none", "box" or "tent".

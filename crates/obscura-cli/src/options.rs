@@ -112,7 +112,7 @@ pub struct QualityArgs {
 #[derive(Debug, Args)]
 pub struct SampleArgs {
     /// Quality preset: samples per pixel 8 (low), 16 (medium), 32 (high; GTAO and the bitmask
-    /// 30 where the layout samples every 1 or 2 pixels: 3 slices × 5 steps crowded toward
+    /// 36 where the layout samples every 1 or 2 pixels: 3 slices × 6 steps crowded toward
     /// the centre), 96 (ultra). --directions and --steps override it, marching evenly.
     #[arg(long, value_enum, default_value_t = PresetArg::High)]
     pub preset: PresetArg,

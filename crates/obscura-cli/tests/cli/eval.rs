@@ -151,7 +151,7 @@ fn eval_default_row_follows_the_input() {
 }
 
 /// Below full resolution a variant is compared with the full-resolution one of the same
-/// preset, although High's counts differ there (3 × 5 crowded at full resolution in the
+/// preset, although High's counts differ there (3 × 6 crowded at full resolution in the
 /// 2×2 layout, 4 × 4 even at half): its "RMSE vs full res" is a number; the
 /// full-resolution variant's own row has none.
 #[test]

@@ -60,7 +60,7 @@ fn render_writes_ao_depth_and_normal_images() {
 }
 
 /// The High preset's samples follow the layout and resolution (`AoOptions::with_preset`):
-/// 3 × 5 steps at march exponent 1.3 where the lattice is at most 2 pixels (the default
+/// 3 × 6 steps at march exponent 1.3 where the lattice is at most 2 pixels (the default
 /// 2×2 at full resolution), 4 × 4 even steps at half resolution in the 2×2 layout; counts
 /// given by hand march evenly unless --march-exponent is given.
 #[test]
@@ -70,7 +70,7 @@ fn render_takes_the_presets_samples_for_its_layout_and_resolution() {
     for (extra, want) in [
         (
             &[][..],
-            "3 directions x 5 steps (30 samples/pixel), march exponent 1.3, deinterleaved2",
+            "3 directions x 6 steps (36 samples/pixel), march exponent 1.3, deinterleaved2",
         ),
         (
             &["--resolution", "half"][..],
@@ -78,7 +78,7 @@ fn render_takes_the_presets_samples_for_its_layout_and_resolution() {
         ),
         (
             &["--mode", "randomized", "--resolution", "half"][..],
-            "3 directions x 5 steps (30 samples/pixel), march exponent 1.3, randomized",
+            "3 directions x 6 steps (36 samples/pixel), march exponent 1.3, randomized",
         ),
         (
             &["--steps", "7"][..],

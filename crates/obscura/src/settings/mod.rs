@@ -27,7 +27,7 @@ pub struct AoOptions {
     /// Default 3 (GTAO's `Preset::High` in the default layout; [`AoOptions::with_preset`]
     /// gives every estimator's, for any layout and resolution).
     pub directions: u32,
-    /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 5.
+    /// Ray-march steps per direction. Unit: count. Range 1..=64. Default 6.
     /// Samples per pixel = `directions * steps`.
     pub steps: u32,
     /// Where GTAO's and the bitmask estimator's steps land along a direction (other
@@ -118,7 +118,7 @@ impl Default for AoOptions {
             estimator: Estimator::default(),
             // Preset::High for GTAO in the default layout (a test checks they agree).
             directions: 3,
-            steps: 5,
+            steps: 6,
             march_exponent: HIGH_MARCH_EXPONENT,
             mode: AoMode::default(),
             fused: true,
@@ -139,9 +139,9 @@ impl Default for AoOptions {
 /// The estimator for a depth map given alone (`obscura render --depth`, Python), where
 /// normals come from the depth and accuracy counts for more than a millisecond: the
 /// visibility bitmask, at the same preset. On the nine shared views from depth alone it
-/// scores 0.0653 RMSE against 0.0712 for GTAO on clean depth and 0.0951 against 0.0993 on
-/// Kinect-like depth, lower on every view, at 1.2–1.3× GTAO's time on lavapipe
-/// (BENCHMARKS.md, "Depth maps"). A renderer's frame keeps [`Estimator::default`].
+/// scores 0.0638 RMSE against 0.0643 for GTAO on clean depth and 0.0941 against 0.0947 on
+/// Kinect-like depth (higher on two views and one), at 1.3–1.4× GTAO's time on lavapipe
+/// (docs/guide/depth-maps.md). A renderer's frame keeps [`Estimator::default`].
 pub const DEPTH_MAP_ESTIMATOR: Estimator = Estimator::Bitmask;
 
 /// `Ok` when `ok`, else the invalid-setting error naming `field`, `value` and `expected`.

@@ -101,10 +101,10 @@ fn noisy_depth_prepare_and_ao_match_cpu_reference() {
 /// no occlusion and one normal. With the model the normals are within 10° of the plane's
 /// (median) and the AO within 0.04 of 1 (mean); without it, the same noise gives normals
 /// off by half as much again and visible false occlusion, so the test fails if the model
-/// does nothing. Measured: the default's 3 × 5 steps crowded toward the centre (exponent
-/// 1.3) read 0.966 with the model and 0.898 without; 4 × 4 even steps 0.981 and 0.918
-/// (short steps see the noise as slope; over the shared views with Kinect-like noise the
-/// crowded march is still the more accurate, docs/thickness.md).
+/// does nothing. Measured: the default's 3 × 6 steps crowded toward the centre (exponent
+/// 1.3) read 0.965 with the model and 0.889 without (3 × 5: 0.966 and 0.898); 4 × 4 even
+/// steps 0.981 and 0.918 (short steps see the noise as slope; over the shared views with
+/// Kinect-like noise the crowded march is still the more accurate, docs/thickness.md).
 #[test]
 fn noisy_plane_keeps_its_normal_and_reads_unoccluded() {
     let _g = lock();
