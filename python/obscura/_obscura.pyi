@@ -82,7 +82,7 @@ def ambient_occlusion(
         pixel, along its ray, and the part of it within the radius occludes
         (docs/thickness.md). Other estimators ignore it.
     estimator: "bitmask" (None, the default: the library's estimator for depth maps,
-        more accurate than GTAO from depth alone at about 1.25x its time), "gtao", "hbao",
+        more accurate than GTAO from depth alone at about 1.35x its time), "gtao", "hbao",
         "vo", "vao", "sao" or "vo-area".
     preset: "low", "medium", "high" or "ultra" (8, 16, 32, 96 samples per pixel;
         high with GTAO or the bitmask at full or randomized half resolution: 36, three

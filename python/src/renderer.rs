@@ -7,7 +7,7 @@ use super::*;
 ///
 /// Args:
 ///     estimator: "bitmask" (None, the default: the library's estimator for depth maps,
-///         more accurate than GTAO from depth alone at about 1.25x its time; its thickness
+///         more accurate than GTAO from depth alone at about 1.35x its time; its thickness
 ///         prior: `render`'s `thickness`), "gtao", "hbao", "vo", "vao", "sao" or "vo-area".
 ///     preset: "low", "medium", "high" (default) or "ultra": 8, 16, 32 or 96 samples per pixel
 ///         (high with GTAO or the bitmask at full resolution: 36, three slices of six steps
