@@ -78,7 +78,7 @@ if [ -d "$scenes" ]; then
     --json "$out/layers-720p.json" --report "$out/layers-720p" --markdown "$out/layers-720p.md"
   # The bitmask against GTAO with more steps, with and without a second layer: the frontier
   # that decides whether the bitmask could be the default (docs/thickness.md, "On a GPU").
-  step splits-720p "${hd[@]}" --estimators gtao,bitmask --splits 3x4,3x5,3x8 --march-exponents 1.3 \
+  step splits-720p "${hd[@]}" --estimators gtao,bitmask --splits 3x5,3x6,3x8 --march-exponents 1.3 \
     --modes randomized,deinterleaved2 --thickness 1 --second-layer --runs 5 \
     --json "$out/splits-720p.json" --report "$out/splits-720p" --markdown "$out/splits-720p.md"
 else
