@@ -35,6 +35,12 @@ fn view_position(p: vec2<f32>, d: f32) -> vec3<f32> {
     return view_position_scaled(p, d, frame.ndc_to_view, frame.inv_size);
 }
 
+// d(view_position(p, 1).xy)/dp: view_position is linear in p (ndc spans 2 over the size, y
+// flips), so a pixel offset moves its xy at depth 1 by this per pixel.
+fn view_xy_per_pixel() -> vec2<f32> {
+    return vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view;
+}
+
 // `view_position` with another projection's `ndc_to_view` on another grid's `inv_size` (the
 // previous frame's).
 fn view_position_scaled(p: vec2<f32>, d: f32, ndc_to_view: vec2<f32>, inv_size: vec2<f32>) -> vec3<f32> {

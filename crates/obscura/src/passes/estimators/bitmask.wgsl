@@ -161,7 +161,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     let inv_r = sqrt(frame.inv_radius2);
     let thickness = frame.model.x;
     let unit_p = view_position(vec2<f32>(p) + 0.5, 1.0) * inv_r;
-    let unit_dq = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view * inv_r;
+    let unit_dq = view_xy_per_pixel() * inv_r;
     let pos_r = pos * inv_r;
     let z_ray = vec3<f32>(0.0, 0.0, -inv_r);
     var visibility = 0.0;

@@ -3,22 +3,19 @@
 // fragment that provides `snap_offset` and `sample_depth`, after gtao_arcs.wgsl (the
 // slice frame and the closed-form arcs, shared with ssdo_bounce.wgsl).
 //
-// For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep
-// the highest horizon (largest cos between the sample vector and the view vector V).
-// Sky and off-screen samples are ignored. A front within R counts in full, as the
-// ray-traced reference counts hits within R; beyond it, the front's horizon is mixed toward
-// the tangent plane's by a falloff that reaches 0 at GTAO_FALLOFF_END × R (`gtao_falloff`,
-// gtao_arcs.wgsl; the constant in constants.rs): a front seen beyond R usually has its
-// body within R, which the published test at R leaves out (too bright on every shared
-// view). The horizons are clamped
-// to the normal's hemisphere and the cosine-weighted visible arc is integrated in closed
-// form, weighted by the projected normal's length. Slices are spaced evenly in screen
-// angle, which is not even in azimuth around V off the image centre; each slice is weighted
-// by d(azimuth)/d(screen angle) so that an unoccluded surface integrates to exactly 1
-// (without it, a plane near the image edge reads 2-5% occluded). AO = weighted mean.
-// With BENT_NORMALS the bent normal is integrated from the same horizons (`gtao_bent`)
-// into `bent_normal` (declared by ao_bent*.wgsl). CPU mirror: src/reference.rs,
-// `gtao_pixel`.
+// For each of DIRECTIONS screen-space slices, march STEPS samples to each side and keep the highest
+// horizon (largest cos between the sample vector and the view vector V). Sky and off-screen samples
+// are ignored. A front within R counts in full, as the ray-traced reference counts hits within R;
+// beyond it, the front's horizon is mixed toward the tangent plane's by a falloff that reaches 0 at
+// GTAO_FALLOFF_END × R (`gtao_falloff`, gtao_arcs.wgsl; the constant in constants.rs): a front seen
+// beyond R usually has its body within R, which the published test at R leaves out (too bright on
+// every shared view). The horizons are clamped to the normal's hemisphere and the cosine-weighted
+// visible arc is integrated in closed form, weighted by the projected normal's length. Slices are
+// spaced evenly in screen angle, which is not even in azimuth around V off the image centre; each
+// slice is weighted by d(azimuth)/d(screen angle) so that an unoccluded surface integrates to
+// exactly 1 (without it, a plane near the image edge reads 2-5% occluded). AO = weighted mean. With
+// BENT_NORMALS the bent normal is integrated from the same horizons (`gtao_bent`) into
+// `bent_normal` (declared by ao_bent*.wgsl). CPU mirror: src/reference.rs, `gtao_pixel`.
 
 override DIRECTIONS: u32 = 4u;
 override STEPS: u32 = 4u;
@@ -44,7 +41,7 @@ fn estimate(p: vec2<i32>, centre: vec4<f32>, pattern: vec4<f32>) -> f32 {
     // view_position(q, 1) is linear in q (common.wgsl): its xy at the centre and per pixel
     // of offset, so a sample's position costs a multiply-add (as in bitmask.wgsl).
     let unit_p = view_position(vec2<f32>(p) + 0.5, 1.0).xy;
-    let unit_dq = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view;
+    let unit_dq = view_xy_per_pixel();
     var visibility = 0.0;
     var weights = 0.0;
     var bent = vec3<f32>(0.0);

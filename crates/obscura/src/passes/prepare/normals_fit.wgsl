@@ -105,8 +105,7 @@ fn surface(p: vec2<i32>, d: f32) -> vec4<f32> {
     }
     let f0 = fc + plane.x;
     let dfit = select(f0, 1.0 / f0, persp);
-    // d(view xy at depth 1)/d(pixel): ndc spans 2 over the size, y flips.
-    let k = vec2<f32>(2.0, -2.0) * frame.inv_size * frame.ndc_to_view;
+    let k = view_xy_per_pixel();
     let g = plane.yz / (f32(stride) * k);
     // Perspective: 1/d = (n.r)/c for the ray r = view_position(pixel, 1) and a plane n.X = c,
     // so n = (gx, gy, gx rx + gy ry - 1/d). Orthographic: d = c - n.xy X.xy / nz, n = (g, 1).
