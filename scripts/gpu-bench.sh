@@ -81,6 +81,10 @@ if [ -d "$scenes" ]; then
   step splits-720p "${hd[@]}" --estimators gtao,bitmask --splits 3x5,3x6,3x8 --march-exponents 1.3 \
     --modes randomized,deinterleaved2 --thickness 1 --second-layer --runs 5 \
     --json "$out/splits-720p.json" --report "$out/splits-720p" --markdown "$out/splits-720p.md"
+  # More steps at exponent 1.25 (square roots, no pow) against the default's 3 × 6 at 1.3:
+  # the candidates for a default with less pattern error (docs/patterns.md, "What is left").
+  step steps-720p "${hd[@]}" --estimators gtao --modes deinterleaved2 --splits 3x6,3x7,3x8,3x9 \
+    --march-exponents 1.3,1.25 --runs 9 --json "$out/steps-720p.json"
 else
   echo "== eval steps skipped: no scenes at $scenes"
 fi

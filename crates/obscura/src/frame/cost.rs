@@ -78,10 +78,18 @@ pub struct PassCost {
 const GTAO_PIXEL: Work = work(1.0, 6.0, 50.0);
 /// Per slice: the slice frame (`gtao_slice`) and the two arcs (`gtao_side`).
 const GTAO_SLICE: Work = work(0.0, 12.0, 130.0);
-/// Per step: where it lands (`march_ray`, a pow = exp2 + log2 below exponent 1) and its
-/// snap to the lattice.
+/// Per step: where it lands (`march_ray`) and its snap to the lattice; above exponent 1 a
+/// power (`march_power`): two specials for pow (exp2 and log2) or a fourth root, one for
+/// t^1.5, none for t².
 const MARCH_STEP: Work = work(0.0, 0.0, 16.0);
-const MARCH_POW: Work = work(0.0, 2.0, 0.0);
+
+fn march_power_specials(e: f32) -> f64 {
+    match e {
+        1.0 | 2.0 => 0.0,
+        1.5 => 1.0,
+        _ => 2.0,
+    }
+}
 /// Per side of a step: the fetch, the view position (a multiply-add from the centre's), the
 /// in-slice horizon cosine (the distance from the slice plane by one dot product) and its
 /// falloff beyond R (`gtao_falloff`, a mix).
@@ -121,11 +129,7 @@ const PREPARE_SECOND: Work = work(1.0, 1.0, 6.0);
 /// does not count.
 pub fn ao_work(o: &AoOptions, second_layer: bool) -> Option<Work> {
     let (d, s) = (o.directions as f64, o.steps as f64);
-    let step = if o.march_exponent == 1.0 {
-        MARCH_STEP
-    } else {
-        MARCH_STEP + MARCH_POW
-    };
+    let step = MARCH_STEP + work(0.0, march_power_specials(o.march_exponent), 0.0);
     let layers = if second_layer { 2.0 } else { 1.0 };
     match o.estimator {
         Estimator::Gtao => Some(GTAO_PIXEL + (GTAO_SLICE + (step + GTAO_SIDE * 2.0) * s) * d),

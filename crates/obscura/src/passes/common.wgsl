@@ -141,7 +141,23 @@ fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32, e: f32) -> f32
     if e == 1.0 {
         return 1.0 + (f32(s) + j) * step_px;
     }
-    return cell + (1.0 + step_px * n - cell) * pow((f32(s) + j) / n, e);
+    return cell + (1.0 + step_px * n - cell) * march_power((f32(s) + j) / n, e);
+}
+
+// t^e for t in [0, 1]. The exponents 1.25, 1.5 and 2 by square roots and a product: the
+// same powers, where a CPU adapter (lavapipe) evaluates pow as exp2 and log2 polynomials,
+// once per step of every slice (docs/patterns.md). Mirror: `estimators::march_power`.
+fn march_power(t: f32, e: f32) -> f32 {
+    if e == 1.25 {
+        return t * sqrt(sqrt(t));
+    }
+    if e == 1.5 {
+        return t * sqrt(t);
+    }
+    if e == 2.0 {
+        return t * t;
+    }
+    return pow(t, e);
 }
 
 // Whether working-grid pixel `p` (centred at full-resolution (p + 0.5) · inv_scale) lies

@@ -19,14 +19,16 @@ fn bitmask(mode: AoMode) -> AoOptions {
 }
 
 /// The mirror test of every mode runs with the default model; this one runs the other
-/// corners of the model (infinite thickness, a thin prior, a march denser near the centre)
-/// in the randomized and 2×2 layouts, perspective and orthographic.
+/// corners of the model (infinite thickness, a thin prior, marches denser near the centre,
+/// by pow and by square roots) in the randomized and 2×2 layouts, perspective and
+/// orthographic.
 #[test]
 fn bitmask_matches_its_mirror_for_every_model() {
     let _g = lock();
     for projection in test_projections() {
         let raw = test_scene(&projection, W, H);
-        for (thickness, march_exponent) in [(f32::INFINITY, 1.0), (0.2, 2.5), (1.0, 1.5)] {
+        let models = [(f32::INFINITY, 1.0), (0.2, 2.5), (1.0, 1.5), (0.5, 1.25)];
+        for (thickness, march_exponent) in models {
             let params = AoParams {
                 radius: 1.5,
                 thickness,

@@ -55,7 +55,21 @@ pub fn march_ray(s: u32, steps: u32, j: f32, step_px: f32, cell: f32, e: f32) ->
     if e == 1.0 {
         return 1.0 + (s as f32 + j) * step_px;
     }
-    cell + (1.0 + step_px * n - cell) * ((s as f32 + j) / n).powf(e)
+    cell + (1.0 + step_px * n - cell) * march_power((s as f32 + j) / n, e)
+}
+
+/// t^e, with the exponents 1.25, 1.5 and 2 by square roots and a product; mirrors
+/// `march_power` in passes/common.wgsl.
+pub fn march_power(t: f32, e: f32) -> f32 {
+    if e == 1.25 {
+        t * t.sqrt().sqrt()
+    } else if e == 1.5 {
+        t * t.sqrt()
+    } else if e == 2.0 {
+        t * t
+    } else {
+        t.powf(e)
+    }
 }
 
 /// E[max(z − c, 0)] for z uniform on [lo, hi] (a point where lo = hi); mirrors
@@ -501,6 +515,20 @@ mod tests {
             );
         }
         assert_eq!(snap_offset([7.4, -3.6], 1), [7, -4]);
+    }
+
+    /// The powers by square roots against f64's powf over [0, 1], to 2e-6 (a few float
+    /// roundings); other exponents take powf itself.
+    #[test]
+    fn march_powers_by_square_roots_are_the_powers() {
+        for e in [1.25f32, 1.5, 2.0, 1.3] {
+            for i in 0..=1000 {
+                let t = i as f32 / 1000.0;
+                let exact = (t as f64).powf(e as f64);
+                let got = march_power(t, e) as f64;
+                assert!((got - exact).abs() <= 2e-6, "t {t} e {e}: {got} vs {exact}");
+            }
+        }
     }
 
     /// The closed-form expectation of a chord's occupied length over depths uniform with a
