@@ -134,7 +134,8 @@ impl Ao {
 
     /// The AO at working resolution: below full resolution what the upsampler reads
     /// (after temporal accumulation and denoising), else the AO pass's own output before
-    /// them, when the plan keeps one.
+    /// them, when the plan keeps one (not where it is packed for the denoiser, as
+    /// [`Self::raw_ao`] says).
     pub fn working_ao(&self) -> Option<&wgpu::Texture> {
         let upsampled = self.plan.steps.iter().find_map(|st| match st.pass {
             Pass::Upsample { .. } | Pass::UpsampleScaled => {
@@ -158,7 +159,9 @@ impl Ao {
 
     /// The AO pass's own output at working resolution when it does not write the output
     /// directly (for tests against the CPU mirrors). Below full resolution with both the
-    /// temporal pass and the denoiser, the denoiser writes over it.
+    /// temporal pass and the denoiser, the denoiser writes over it. `None` where the
+    /// spatial denoiser follows the AO pass directly: the AO pass then stores its AO packed
+    /// beside the geometry (passes/estimators/ao_packed.wgsl).
     pub fn raw_ao(&self) -> Option<&wgpu::Texture> {
         self.sized.as_ref().and_then(|s| s.texture(Res::AoWork))
     }

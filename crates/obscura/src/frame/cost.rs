@@ -115,8 +115,10 @@ const BITMASK_SOLID: Work = work(1.0, 2.0, 59.0);
 pub const BITMASK_RUNS: f64 = 1.5;
 /// The spatial denoiser (denoise.wgsl, merge.wgsl) per tap: prepared and AO fetches, the
 /// mirror at the border, the plane and normal weights (one exp), the moments; per pixel:
-/// the centre, the tolerance, the 2 × 2 solve.
+/// the centre, the tolerance, the 2 × 2 solve. Reading the AO packed with its geometry
+/// (denoise_packed.wgsl): one fetch a tap, the normal's z from its unit length.
 const DENOISE_TAP: Work = work(2.0, 1.0, 55.0);
+const DENOISE_TAP_PACKED: Work = work(1.0, 2.0, 62.0);
 const DENOISE_PIXEL: Work = work(1.0, 4.0, 40.0);
 /// The prepare pass (prepare.wgsl): linearise the depth, normals from the caller's
 /// texture or from the depth's four neighbours (normals_reconstruct.wgsl; two more when
@@ -146,9 +148,14 @@ pub fn ao_work(o: &AoOptions, second_layer: bool) -> Option<Work> {
     }
 }
 
-fn denoise_work(period: u32) -> Work {
+fn denoise_work(period: u32, packed: bool) -> Work {
     let taps = ((period + 1) * (period + 1)) as f64;
-    DENOISE_PIXEL + DENOISE_TAP * taps
+    let tap = if packed {
+        DENOISE_TAP_PACKED
+    } else {
+        DENOISE_TAP
+    };
+    DENOISE_PIXEL + tap * taps
 }
 
 /// Every pass of `o`'s frame at `size` pixels, prepare first, counted; `normals_given`:
@@ -213,8 +220,8 @@ pub fn frame_cost(o: &AoOptions, size: [u32; 2], normals_given: bool) -> Vec<Pas
 fn step_work(o: &AoOptions, st: &Step, second: bool) -> Option<Work> {
     match st.pass {
         Pass::AoFull { .. } | Pass::AoLayered { .. } => ao_work(o, second),
-        Pass::Denoise { .. } if o.denoise == Denoise::Spatial => {
-            Some(denoise_work(o.pattern_period()))
+        Pass::Denoise { packed, .. } if o.denoise == Denoise::Spatial => {
+            Some(denoise_work(o.pattern_period(), packed))
         }
         _ => None,
     }

@@ -8,6 +8,7 @@ pub mod cost;
 pub mod plan;
 #[cfg(test)]
 mod plan_tests;
+mod plan_types;
 pub mod resources;
 pub mod temporal;
 pub mod timing;

@@ -21,141 +21,14 @@
 //! levels built between prepare and the AO pass; VO's area integral gets a moments pyramid.
 
 use crate::passes::constants::{
-    AO_FORMAT, BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT,
-    PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    AO_FORMAT, AO_PACKED_FORMAT, BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, MOMENTS_FORMAT,
+    PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
 };
 use crate::passes::layers::layer_size;
 use crate::passes::shader::{dispatch_size, Pass, PrepareStore, PyramidSource};
 use crate::{AoOptions, Denoise, Resolution, Upsampler};
 
-/// A texture the passes read or write. Sizes: `full` = the viewport, `work` = the AO's
-/// working resolution (`ceil(full / resolution factor)`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Res {
-    /// `prepared`: full size, PREPARED_FORMAT.
-    Prepared,
-    /// `linear depth`: full size, LINEAR_DEPTH_FORMAT (written by [`PrepareStore::Down`]).
-    LinearDepth,
-    /// `second layer`: full size, LINEAR_DEPTH_FORMAT: the second depth layer's linear
-    /// depth, written by the prepare pass ([`AoOptions::second_layer`]).
-    SecondLayer,
-    /// `prepared_layers`: work layer size × N² layers, PREPARED_FORMAT (deinterleaved).
-    PreparedLayers,
-    /// `prepared` downsampled k ≥ 1 times by the depth rule: `ceil(full / 2^k)`.
-    Level(u32),
-    /// `prepared` at the frame's scale ([`crate::Resolution::Scaled`]): created at full
-    /// size, the working grid `ceil(full × scale)` used.
-    Scaled,
-    /// `pyramid`: `max(1, full >> 1)` with every mip, PYRAMID_FORMAT; all mips.
-    Pyramid,
-    /// One mip of the pyramid.
-    PyramidMip(u32),
-    /// `moments`: the pyramid's size and mips, MOMENTS_FORMAT (VO's area integral).
-    Moments,
-    /// One mip of the moments pyramid.
-    MomentsMip(u32),
-    /// `ao_work`: work size, AO_FORMAT (when post-processing follows the AO pass).
-    AoWork,
-    /// `ao_tmp`: work size, AO_FORMAT (between the temporal pass and the denoiser).
-    AoTmp,
-    /// `ao_layers`: work layer size × N², AO_FORMAT (unfused deinterleaved).
-    AoLayers,
-    /// `ao_half`: `ceil(work / 2)`, AO_FORMAT (box or tent denoise).
-    AoHalf,
-    /// `output`: full size, AO_FORMAT.
-    Output,
-    /// The temporal history read this frame (last frame's): work size, HISTORY_FORMAT;
-    /// one of the two [`Res::History`] textures, alternating by frame.
-    HistoryPrev,
-    /// The temporal history written this frame: the other [`Res::History`] texture.
-    HistoryNext,
-    /// History texture 0 or 1 (what `HistoryPrev`/`HistoryNext` resolve to).
-    History(u32),
-    /// `bent normals`: work size, BENT_FORMAT (the result, [`Ao::bent_normals`]).
-    Bent,
-    /// `bent normals raw`: work size, BENT_FORMAT (the AO pass's, when a temporal pass or
-    /// the denoiser follows).
-    BentRaw,
-    /// `bent normals accumulated`: work size, BENT_FORMAT (between the temporal pass and
-    /// the denoiser).
-    BentTmp,
-    /// The bent-normal history read this frame, as [`Res::HistoryPrev`].
-    BentHistoryPrev,
-    /// The bent-normal history written this frame, as [`Res::HistoryNext`].
-    BentHistoryNext,
-    /// Bent-normal history texture 0 or 1: work size, BENT_FORMAT.
-    BentHistory(u32),
-}
-
-impl Res {
-    /// The texture this resource is on frame parity `parity` (history alternates).
-    pub fn at_parity(self, parity: u32) -> Res {
-        match self {
-            Res::HistoryPrev => Res::History(parity),
-            Res::HistoryNext => Res::History(1 - parity),
-            Res::BentHistoryPrev => Res::BentHistory(parity),
-            Res::BentHistoryNext => Res::BentHistory(1 - parity),
-            r => r,
-        }
-    }
-}
-
-/// Which uniform buffer a pass binds: the full-resolution frame or the working one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FrameAt {
-    Full,
-    Work,
-}
-
-/// The invocation grid of a pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Grid {
-    /// One invocation per pixel of a prepared level (0 = full resolution).
-    Level(u32),
-    /// One invocation per pixel of this frame's working grid ([`crate::Resolution::Scaled`]).
-    Work,
-    /// Work layer texels × N² layers (of this frame's working grid).
-    Layers,
-    /// One dispatch per pyramid (or moments) mip after the first, or per four of them (each
-    /// reads the mip above).
-    PyramidMips,
-    /// Pyramid mip 0.
-    PyramidBase,
-}
-
-/// One pass of the plan: what it binds (binding → texture), with which frame, over which grid.
-#[derive(Clone, Debug)]
-pub struct Step {
-    pub pass: Pass,
-    pub views: Vec<(u32, Res)>,
-    pub frame: FrameAt,
-    pub grid: Grid,
-}
-
-/// How long a texture's contents live.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Lifetime {
-    /// Written and read within one frame.
-    Frame,
-    /// Carried from one frame to the next (the temporal histories).
-    AcrossFrames,
-    /// The caller's (the AO output, when [`crate::AoInput::output`] is given; else created
-    /// on the first frame that asks for the library's own).
-    Caller,
-}
-
-/// A texture of the plan: what [`super::resources`] creates for a frame size.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TextureSpec {
-    pub res: Res,
-    pub label: &'static str,
-    /// Width and height of mip 0.
-    pub size: (u32, u32),
-    pub layers: u32,
-    pub mips: u32,
-    pub format: wgpu::TextureFormat,
-    pub lifetime: Lifetime,
-}
+pub use super::plan_types::{FrameAt, Grid, Lifetime, Res, Step, TextureSpec};
 
 /// One AO frame's passes and textures, for one [`AoOptions`].
 #[derive(Clone, Debug)]
@@ -246,6 +119,7 @@ impl Plan {
             Res::Pyramid | Res::PyramidMip(_) => ("obscura depth pyramid", half, 1, PYRAMID_FORMAT),
             Res::Moments | Res::MomentsMip(_) => ("obscura depth moments", half, 1, MOMENTS_FORMAT),
             Res::AoWork => ("obscura ao work", work, 1, AO_FORMAT),
+            Res::AoPacked => ("obscura ao packed", work, 1, AO_PACKED_FORMAT),
             Res::AoTmp => ("obscura ao blur", work, 1, AO_FORMAT),
             Res::AoLayers => ("obscura ao layers", lsize, n * n, AO_FORMAT),
             Res::AoHalf => ("obscura ao half", at(2 * work_factor), 1, AO_FORMAT),
@@ -466,7 +340,14 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             Grid::Level(k),
         ));
     }
-    let ao_target = if direct { Res::Output } else { Res::AoWork };
+    let packed = packs_ao(o);
+    let ao_target = if direct {
+        Res::Output
+    } else if packed {
+        Res::AoPacked
+    } else {
+        Res::AoWork
+    };
     // Bent normals: written by the AO pass, then through the temporal pass, the spatial
     // denoiser and the upsampler where they run; each of these writes the other work-size
     // texture (BentRaw, BentTmp), the last one Bent.
@@ -508,6 +389,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         estimator: e,
         bent,
         second_layer,
+        packed: merge && packed,
     };
     match (n > 1, fused_prepare, direct) {
         (false, ..) => steps.push(step(
@@ -515,6 +397,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
                 estimator: e,
                 bent,
                 second_layer,
+                packed,
             },
             pyramid(vec![(1, work_prepared), (2, ao_target)]),
             FrameAt::Work,
@@ -551,7 +434,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             } else {
                 steps.push(step(
                     layers(true),
-                    pyramid(vec![(1, Res::PreparedLayers), (2, Res::AoWork)]),
+                    pyramid(vec![(1, Res::PreparedLayers), (2, ao_target)]),
                     FrameAt::Work,
                     Grid::Layers,
                 ));
@@ -565,7 +448,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
     } else {
         (false, work_prepared)
     };
-    let mut current = Res::AoWork;
+    let mut current = ao_target;
     let other = |r: Res| {
         if r == Res::AoWork {
             Res::AoTmp
@@ -612,7 +495,10 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             } else {
                 Res::Output
             };
-            let mut views = vec![(1, src), (2, current), (3, next)];
+            let mut views = vec![(2, current), (3, next)];
+            if !packed {
+                views.insert(0, (1, src));
+            }
             if filter_bent {
                 let next = bent_next(bent_current, upsample_bent);
                 views.extend([(4, bent_current), (5, next)]);
@@ -620,8 +506,9 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             }
             steps.push(step(
                 Pass::Denoise {
-                    layers: src_layers,
+                    layers: src_layers && !packed,
                     bent: filter_bent,
+                    packed,
                 },
                 views,
                 FrameAt::Work,
@@ -685,6 +572,8 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         grid,
     };
     let estimator = o.estimator;
+    let packed = packs_ao(o);
+    let ao_target = if packed { Res::AoPacked } else { Res::AoWork };
     let mut steps = vec![step(
         Pass::Rescale,
         vec![(1, Res::Prepared), (2, Res::Scaled)],
@@ -704,8 +593,9 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
                 estimator,
                 bent: false,
                 second_layer: false,
+                packed,
             },
-            vec![(1, Res::PreparedLayers), (2, Res::AoWork)],
+            vec![(1, Res::PreparedLayers), (2, ao_target)],
             FrameAt::Work,
             Grid::Layers,
         ));
@@ -715,14 +605,15 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
                 estimator,
                 bent: false,
                 second_layer: false,
+                packed,
             },
-            vec![(1, Res::Scaled), (2, Res::AoWork)],
+            vec![(1, Res::Scaled), (2, ao_target)],
             FrameAt::Work,
             Grid::Work,
         ));
     }
     // After the AO pass: [temporal] → [denoise], alternating the two working textures.
-    let mut current = Res::AoWork;
+    let mut current = ao_target;
     let other = |r: Res| {
         if r == Res::AoWork {
             Res::AoTmp
@@ -753,8 +644,13 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
             Pass::Denoise {
                 layers: false,
                 bent: false,
+                packed,
             },
-            vec![(1, Res::Scaled), (2, current), (3, other(current))],
+            if packed {
+                vec![(2, current), (3, other(current))]
+            } else {
+                vec![(1, Res::Scaled), (2, current), (3, other(current))]
+            },
             FrameAt::Work,
             Grid::Work,
         ));
@@ -772,6 +668,13 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         Grid::Level(0),
     ));
     steps
+}
+
+/// Whether the AO pass stores its AO packed beside the pixel's geometry
+/// (passes/estimators/ao_packed.wgsl): when the spatial denoiser reads it next (no temporal
+/// pass between), whose taps are then one fetch each instead of two.
+fn packs_ao(o: &AoOptions) -> bool {
+    o.denoise == Denoise::Spatial && o.history == 0
 }
 
 /// Whether the bent normals are upsampled to full resolution (below full resolution, unless

@@ -3,7 +3,8 @@
 //! every binding names a texture the plan creates or the output.
 
 use super::plan::{Dispatch, Grid, Lifetime, Plan, Res};
-use crate::passes::constants::{AO_FORMAT, PREPARED_FORMAT};
+use crate::passes::bindings::layout_entries;
+use crate::passes::constants::{AO_FORMAT, AO_PACKED_FORMAT, PREPARED_FORMAT};
 use crate::passes::shader::{Pass, PrepareStore};
 use crate::{AoMode, AoOptions, Denoise, Estimator, Resolution, Upsampler};
 
@@ -26,11 +27,24 @@ fn options(mode: AoMode, resolution: Resolution, denoise: Denoise) -> AoOptions 
     }
 }
 
-/// Every binding names a texture with a spec (or the output), exactly one step writes
-/// the output, and every spec has a non-empty size.
+/// Every binding names a texture with a spec (or the output), each step binds exactly the
+/// textures its pass's layout declares, exactly one step writes the output, and every spec
+/// has a non-empty size.
 fn check_consistent(p: &Plan, size: [u32; 2]) {
     let textures = p.textures();
     for st in &p.steps {
+        let mut declared: Vec<u32> = layout_entries(st.pass)
+            .iter()
+            .filter(|e| !matches!(e.ty, wgpu::BindingType::Buffer { .. }))
+            .map(|e| e.binding)
+            .collect();
+        let mut bound: Vec<u32> = st.views.iter().map(|v| v.0).collect();
+        declared.sort_unstable();
+        bound.sort_unstable();
+        // The pyramid's further mips bind their own levels (no views in the plan).
+        if !st.views.is_empty() {
+            assert_eq!(declared, bound, "{}: bindings", st.pass.label());
+        }
         for &(_, r) in &st.views {
             let base = match r {
                 Res::PyramidMip(_) => Res::Pyramid,
@@ -78,21 +92,29 @@ fn the_default_is_one_fused_pass_over_2x2_layers_then_the_denoiser() {
     );
     let p = plan(o);
     assert_eq!(p.prepare_store, PrepareStore::Layers);
+    // The AO pass stores its AO packed beside the geometry, and the denoiser's taps read
+    // that alone.
     assert!(matches!(
         p.passes()[..],
         [
-            Pass::AoLayered { merge: true, .. },
+            Pass::AoLayered {
+                merge: true,
+                packed: true,
+                ..
+            },
             Pass::Denoise {
-                layers: true,
-                bent: false
+                layers: false,
+                bent: false,
+                packed: true
             }
         ]
     ));
-    assert_eq!(p.textures(), vec![Res::PreparedLayers, Res::AoWork]);
+    assert_eq!(p.textures(), vec![Res::PreparedLayers, Res::AoPacked]);
     let layers = p.spec(Res::PreparedLayers, [641, 400]).unwrap();
     assert_eq!((layers.size, layers.layers), ((321, 200), 4));
     assert_eq!(layers.format, PREPARED_FORMAT);
-    assert_eq!(p.spec(Res::AoWork, [641, 400]).unwrap().size, (641, 400));
+    let packed = p.spec(Res::AoPacked, [641, 400]).unwrap();
+    assert_eq!((packed.size, packed.format), ((641, 400), AO_PACKED_FORMAT));
     assert_eq!(p.prepare_dispatch([641, 400]), Dispatch::Fixed([41, 25, 4]));
     check_consistent(&p, [641, 400]);
 }
@@ -197,6 +219,21 @@ fn history_adds_a_temporal_pass_and_two_textures_that_live_across_frames() {
     let p = plan(o);
     assert_eq!(p.steps.len(), still.steps.len() + 1);
     assert!(matches!(p.steps[1].pass, Pass::Temporal { .. }));
+    // The temporal pass reads the AO alone, so nothing is packed: the denoiser reads the
+    // prepared layers and the accumulated AO apart.
+    assert!(matches!(
+        p.steps[0].pass,
+        Pass::AoLayered { packed: false, .. }
+    ));
+    assert!(matches!(
+        p.steps[2].pass,
+        Pass::Denoise {
+            layers: true,
+            packed: false,
+            ..
+        }
+    ));
+    assert!(!p.textures().contains(&Res::AoPacked));
     let across: Vec<Res> = p
         .textures()
         .into_iter()

@@ -3,8 +3,8 @@
 //! same numbers).
 
 use crate::passes::constants::{
-    AO_FORMAT, BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT, LIT_PACKED_FORMAT,
-    MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
+    AO_FORMAT, AO_PACKED_FORMAT, BENT_FORMAT, HISTORY_FORMAT, LINEAR_DEPTH_FORMAT, LIT_FORMAT,
+    LIT_PACKED_FORMAT, MOMENTS_FORMAT, PREPARED_FORMAT, PYRAMID_FORMAT, PYRAMID_LEVELS_PER_PASS,
     RESOLVED_DEPTH_FORMAT,
 };
 use crate::passes::shader::{DepthBinding, Pass, PrepareStore, PyramidSource};
@@ -70,6 +70,15 @@ pub fn lit_format(packed: bool) -> wgpu::TextureFormat {
     }
 }
 
+/// The AO pass's output: packed beside the geometry for the denoiser, or the AO alone.
+pub fn ao_format(packed: bool) -> wgpu::TextureFormat {
+    if packed {
+        AO_PACKED_FORMAT
+    } else {
+        AO_FORMAT
+    }
+}
+
 /// The bind group layout of `pass`: uniforms at 0, then its textures.
 pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
     let dim = |layers: bool| if layers { D2_ARRAY } else { D2 };
@@ -106,11 +115,14 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             v
         }
         Pass::AoFull {
-            bent, second_layer, ..
+            bent,
+            second_layer,
+            packed,
+            ..
         } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, D2),
-                storage_entry(2, AO_FORMAT, D2),
+                storage_entry(2, ao_format(packed), D2),
             ];
             if bent {
                 v.push(storage_entry(4, BENT_FORMAT, D2));
@@ -124,11 +136,12 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             merge,
             bent,
             second_layer,
+            packed,
             ..
         } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, D2_ARRAY),
-                storage_entry(2, AO_FORMAT, dim(!merge)),
+                storage_entry(2, ao_format(packed), dim(!merge)),
             ];
             if bent {
                 v.push(storage_entry(4, BENT_FORMAT, D2));
@@ -188,12 +201,21 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Denoise { layers, bent } => {
-            let mut v = vec![
-                texture_entry(1, UNFILTERED, dim(layers)),
+        Pass::Denoise {
+            layers,
+            bent,
+            packed,
+        } => {
+            // Packed taps carry their geometry: no prepared source at 1.
+            let mut v = if packed {
+                vec![]
+            } else {
+                vec![texture_entry(1, UNFILTERED, dim(layers))]
+            };
+            v.extend([
                 texture_entry(2, UNFILTERED, D2),
                 storage_entry(3, AO_FORMAT, D2),
-            ];
+            ]);
             if bent {
                 v.extend([
                     texture_entry(4, UNFILTERED, D2),

@@ -199,8 +199,8 @@ fn timed_runs_report_every_pass_in_order() {
             AoOptions::default(),
             &[
                 "prepare_float_split",
-                "gtao_layers_merge",
-                "denoise_from_layers",
+                "gtao_layers_packed",
+                "denoise_packed",
             ],
         ),
         (

@@ -3,8 +3,9 @@
 use super::*;
 
 /// Denoising matches its CPU mirror, applied to the same frame's AO without denoising:
-/// the spatial denoiser at full resolution (randomized: 5×5; fused 2×2 deinterleaving,
-/// reading the prepared layers: 3×3) and half resolution (the denoised working AO), and
+/// the spatial denoiser at full resolution (randomized: 5×5; fused 2×2 deinterleaving: 3×3,
+/// reading the AO packed with its geometry, or after the temporal pass the prepared layers
+/// and the AO apart) and half resolution (the denoised working AO), and
 /// the box and tent downsamples followed by upsampling (the output); and the denoiser is
 /// edge-aware: on a step edge it leaves the open near side open.
 #[test]
@@ -48,6 +49,16 @@ fn denoise_matches_cpu_reference_and_stops_at_edges() {
                 ..randomized()
             },
         ),
+        // After the temporal pass (its first frame) the denoiser reads the prepared layers
+        // and the AO apart; straight after the AO pass, the AO packed with its geometry.
+        (
+            Resolution::Full,
+            AoOptions {
+                denoise: Denoise::None,
+                history: 4,
+                ..Default::default()
+            },
+        ),
     ];
     for (resolution, o) in spatial_cases {
         let base = AoOptions { resolution, ..o };
@@ -69,7 +80,10 @@ fn denoise_matches_cpu_reference_and_stops_at_edges() {
             none.levels[0].clone()
         };
         let cpu = reference::denoise(&work, &prepared, before, base.pattern_period());
-        let what = format!("{resolution:?} {:?} spatial", base.mode);
+        let what = format!(
+            "{resolution:?} {:?} history {} spatial",
+            base.mode, base.history
+        );
         check(after, &cpu, &what);
         assert!(
             before

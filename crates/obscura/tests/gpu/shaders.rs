@@ -29,6 +29,7 @@ fn frame_uniforms_layout_matches_wgsl() {
         estimator: obscura::Estimator::Hbao,
         bent: false,
         second_layer: false,
+        packed: false,
     });
     let (members, span) = module
         .types

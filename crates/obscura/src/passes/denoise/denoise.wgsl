@@ -24,12 +24,19 @@
 // extrapolate the slope across the border from noise alone (the edge pixel has no taps
 // beyond it, unlike a crease, where the other side exists but is another surface).
 // Sky taps are skipped; sky pixels pass through. Bent normals, when on, get the same fit
-// of their offsets from the taps' normals (denoise_bent.wgsl). CPU mirror: src/reference.rs, `denoise`.
+// of their offsets from the taps' normals (denoise_bent.wgsl). A tap's prepared value and
+// AO come from denoise_split.wgsl or denoise_packed.wgsl. CPU mirror: src/reference.rs,
+// `denoise`.
 
 override PERIOD: u32 = 2u;
 
+// A tap: its prepared value vec4(linear depth, normal) and its AO.
+struct DenoiseTap {
+    prepared: vec4<f32>,
+    ao: f32,
+}
+
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
-@group(0) @binding(2) var ao_in: texture_2d<f32>;
 @group(0) @binding(3) var ao_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)
@@ -38,8 +45,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(gid.xy);
-    let centre = prepared_at(p);
-    var ao = textureLoad(ao_in, p, 0).x;
+    let own = denoise_tap(p);
+    let centre = own.prepared;
+    var ao = own.ao;
     if centre.x > 0.0 {
         let pos = view_position(vec2<f32>(p) + 0.5, centre.x);
         let n = centre.yzw;
@@ -63,13 +71,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 var q = p + vec2<i32>(dx, dy);
                 q = select(q, -q, q < vec2<i32>(0));
                 q = clamp(select(q, 2 * (size - 1) - q, q >= size), vec2<i32>(0), size - 1);
-                let s = prepared_at(q);
+                let tap = denoise_tap(q);
+                let s = tap.prepared;
                 if s.x <= 0.0 {
                     continue;
                 }
                 let spatial = select(2.0, 1.0, abs(dx) == r) * select(2.0, 1.0, abs(dy) == r);
                 let w = spatial * merge_weight(pos, n, inv_tol, q, s);
-                let v = textureLoad(ao_in, q, 0).x;
+                let v = tap.ao;
                 let d = vec2<f32>(f32(dx), f32(dy));
                 total += w;
                 sum += w * v;

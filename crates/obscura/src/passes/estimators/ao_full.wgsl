@@ -1,6 +1,6 @@
 // The randomized single pass: every full-resolution pixel runs the estimator with the
 // pattern of its position in the 4x4 tile, sampling at rounded pixel offsets. Composed
-// with an estimator (hbao.wgsl or gtao.wgsl: `estimate`), ao_store_full.wgsl and an
+// with an estimator (hbao.wgsl or gtao.wgsl: `estimate`), an ao_store_*.wgsl and an
 // ao_bent*.wgsl.
 
 // 1: skip the guard band beyond GUARD_AO_MARGIN (common.wgsl, `beyond_output`), writing 1.
@@ -27,13 +27,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(gid.xy >= frame.size) {
         return;
     }
+    let p = vec2<i32>(gid.xy);
+    let centre = textureLoad(prepared_in, p, 0);
     if SKIP_BAND != 0u && beyond_output(gid.xy) {
-        store_ao(gid.xy, gid.xy, 0u, 1.0);
+        store_ao(gid.xy, gid.xy, 0u, 1.0, centre);
         store_bent(gid.xy);
         return;
     }
-    let p = vec2<i32>(gid.xy);
     let pattern = frame.patterns[(gid.x % PATTERN_DIM) + PATTERN_DIM * (gid.y % PATTERN_DIM)];
-    store_ao(gid.xy, gid.xy, 0u, estimate(p, textureLoad(prepared_in, p, 0), pattern));
+    store_ao(gid.xy, gid.xy, 0u, estimate(p, centre, pattern), centre);
     store_bent(gid.xy);
 }

@@ -79,13 +79,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(full >= frame.size) {
         return;
     }
+    let centre = textureLoad(prepared_in, gid.xy, layer, 0);
     if SKIP_BAND != 0u && beyond_output(full) {
-        store_ao(full, gid.xy, layer, 1.0);
+        store_ao(full, gid.xy, layer, 1.0, centre);
         store_bent(full);
         return;
     }
     let pattern = pixel_pattern(frame.patterns[corner.x + PATTERN_DIM * corner.y], vec2<i32>(full));
-    let centre = textureLoad(prepared_in, gid.xy, layer, 0);
-    store_ao(full, gid.xy, layer, estimate(vec2<i32>(full), centre, pattern));
+    store_ao(full, gid.xy, layer, estimate(vec2<i32>(full), centre, pattern), centre);
     store_bent(full);
 }

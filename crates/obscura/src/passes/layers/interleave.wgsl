@@ -13,5 +13,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let layer = layer_of(gid.xy, SPLIT);
     let texel = gid.xy / SPLIT;
-    store_ao(gid.xy, texel, layer, textureLoad(ao_layers, texel, layer, 0).x);
+    store_ao(gid.xy, texel, layer, textureLoad(ao_layers, texel, layer, 0).x, vec4<f32>(0.0));
 }

@@ -41,6 +41,18 @@ impl Pass {
             include_str!("../estimators/ao_store_full.wgsl")
         );
         const STORE_AO_LAYERS: &str = include_str!("../estimators/ao_store_layers.wgsl");
+        const STORE_AO_PACKED: &str = concat!(
+            include_str!("../estimators/ao_packed.wgsl"),
+            "\n",
+            include_str!("../estimators/ao_store_packed.wgsl")
+        );
+        let store_ao_full = |packed: bool| {
+            if packed {
+                STORE_AO_PACKED
+            } else {
+                STORE_AO_FULL
+            }
+        };
         const PREPARE: &str = include_str!("../prepare/prepare.wgsl");
         const DOWNSAMPLE_RULE: &str = include_str!("../pyramid/downsample_rule.wgsl");
         const UPSAMPLE_FOOTPRINT: &str = include_str!("../upsample/upsample_footprint.wgsl");
@@ -133,12 +145,13 @@ impl Pass {
                 estimator,
                 bent,
                 second_layer,
+                packed,
             } => sphere_chord(estimator)
                 .into_iter()
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
-                    STORE_AO_FULL,
+                    store_ao_full(packed),
                     ao_bent(bent),
                     include_str!("../estimators/ao_full.wgsl"),
                 ])
@@ -148,13 +161,14 @@ impl Pass {
                 estimator,
                 bent,
                 second_layer,
+                packed,
             } => sphere_chord(estimator)
                 .into_iter()
                 .chain(second_source(estimator, second_layer))
                 .chain([
                     estimator_source(estimator),
                     if merge {
-                        STORE_AO_FULL
+                        store_ao_full(packed)
                     } else {
                         STORE_AO_LAYERS
                     },
@@ -209,18 +223,36 @@ impl Pass {
                 include_str!("../upsample/upsample_scaled.wgsl"),
                 UPSAMPLE_BILATERAL,
             ],
-            Pass::Denoise { layers, bent } => {
-                vec![
-                    prepared_source(layers),
-                    include_str!("../denoise/merge.wgsl"),
-                    if bent {
-                        include_str!("../denoise/denoise_bent.wgsl")
-                    } else {
-                        include_str!("../denoise/denoise_bent_none.wgsl")
-                    },
-                    OUTPUT,
-                    include_str!("../denoise/denoise.wgsl"),
+            Pass::Denoise {
+                layers,
+                bent,
+                packed,
+            } => {
+                let taps: &[&str] = if packed {
+                    &[
+                        include_str!("../estimators/ao_packed.wgsl"),
+                        include_str!("../denoise/denoise_packed.wgsl"),
+                    ]
+                } else {
+                    &[
+                        prepared_source(layers),
+                        include_str!("../denoise/denoise_split.wgsl"),
+                    ]
+                };
+                [
+                    taps,
+                    &[
+                        include_str!("../denoise/merge.wgsl"),
+                        if bent {
+                            include_str!("../denoise/denoise_bent.wgsl")
+                        } else {
+                            include_str!("../denoise/denoise_bent_none.wgsl")
+                        },
+                        OUTPUT,
+                        include_str!("../denoise/denoise.wgsl"),
+                    ],
                 ]
+                .concat()
             }
             Pass::Temporal { layers, bent } => {
                 vec![

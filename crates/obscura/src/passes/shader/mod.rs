@@ -71,20 +71,24 @@ pub enum Pass {
     },
     /// The randomized single full-resolution AO pass; `bent`: bent normals written too
     /// (GTAO, HBAO and the bitmask); `second_layer`: the bitmask reads the second depth
-    /// layer.
+    /// layer; `packed`: the AO stored beside its pixel's geometry ([`AO_PACKED_FORMAT`])
+    /// for the spatial denoiser that follows.
     AoFull {
         estimator: Estimator,
         bent: bool,
         second_layer: bool,
+        packed: bool,
     },
     /// AO over deinterleaved layers; `merge`: write full resolution directly (fused merge),
-    /// else keep the result in layers for [`Pass::Interleave`]; `bent` and `second_layer`
-    /// as for [`Pass::AoFull`] (bent normals always written at full resolution).
+    /// else keep the result in layers for [`Pass::Interleave`]; `bent`, `second_layer` and
+    /// `packed` (with `merge` only) as for [`Pass::AoFull`] (bent normals always written at
+    /// full resolution).
     AoLayered {
         merge: bool,
         estimator: Estimator,
         bent: bool,
         second_layer: bool,
+        packed: bool,
     },
     /// Full-resolution prepared buffer → layers (unfused split).
     Deinterleave,
@@ -113,8 +117,13 @@ pub enum Pass {
         full_normals: bool,
     },
     /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
-    /// layers (fused deinterleaved modes); `bent`: bent normals filtered too.
-    Denoise { layers: bool, bent: bool },
+    /// layers (fused deinterleaved modes); `bent`: bent normals filtered too; `packed`: the
+    /// taps read from the AO pass's packed output, one fetch each (`layers` then false).
+    Denoise {
+        layers: bool,
+        bent: bool,
+        packed: bool,
+    },
     /// Temporal accumulation (history reprojection, rejection, clamp, blend); `bent`: bent
     /// normals accumulated too.
     Temporal { layers: bool, bent: bool },
@@ -180,17 +189,21 @@ impl Pass {
             };
             for &bent in bents {
                 for &second_layer in seconds {
-                    v.push(Pass::AoFull {
-                        estimator,
-                        bent,
-                        second_layer,
-                    });
-                    for merge in [true, false] {
+                    for packed in [false, true] {
+                        v.push(Pass::AoFull {
+                            estimator,
+                            bent,
+                            second_layer,
+                            packed,
+                        });
+                    }
+                    for (merge, packed) in [(true, false), (true, true), (false, false)] {
                         v.push(Pass::AoLayered {
                             merge,
                             estimator,
                             bent,
                             second_layer,
+                            packed,
                         });
                     }
                 }
@@ -217,15 +230,14 @@ impl Pass {
             }
         }
         for b in [false, true] {
+            for (layers, packed) in [(false, false), (true, false), (false, true)] {
+                v.push(Pass::Denoise {
+                    layers,
+                    bent: b,
+                    packed,
+                });
+            }
             v.extend([
-                Pass::Denoise {
-                    layers: b,
-                    bent: false,
-                },
-                Pass::Denoise {
-                    layers: b,
-                    bent: true,
-                },
                 Pass::Temporal {
                     layers: b,
                     bent: false,
@@ -309,13 +321,18 @@ impl Pass {
                 estimator,
                 bent,
                 second_layer,
-            } => ao_label(estimator, 0, bent, second_layer),
+                packed,
+            } => ao_label(estimator, 3 * packed as usize, bent, second_layer),
             Pass::AoLayered {
                 merge,
                 estimator,
                 bent,
                 second_layer,
-            } => ao_label(estimator, 2 - merge as usize, bent, second_layer),
+                packed,
+            } => {
+                let kind = if packed { 4 } else { 2 - merge as usize };
+                ao_label(estimator, kind, bent, second_layer)
+            }
             Pass::Deinterleave => "deinterleave",
             Pass::Interleave => "interleave",
             Pass::Pyramid { source } => match source {
@@ -350,12 +367,18 @@ impl Pass {
                 };
                 names[bent as usize]
             }
-            Pass::Denoise { layers, bent } => [
+            Pass::Denoise {
+                layers,
+                bent,
+                packed,
+            } => [
                 "denoise",
                 "denoise_from_layers",
+                "denoise_packed",
                 "denoise_bent",
                 "denoise_bent_from_layers",
-            ][layers as usize + 2 * bent as usize],
+                "denoise_bent_packed",
+            ][layers as usize + 2 * packed as usize + 3 * bent as usize],
             Pass::Temporal { layers, bent } => [
                 "temporal",
                 "temporal_from_layers",
@@ -388,45 +411,95 @@ impl Pass {
 }
 
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
-/// 2 = layers kept for the interleave pass; `bent`: with bent normals (GTAO, HBAO, bitmask);
+/// 2 = layers kept for the interleave pass, 3 = full resolution packed for the denoiser,
+/// 4 = layers merged and packed; `bent`: with bent normals (GTAO, HBAO, bitmask);
 /// `second`: reading a second depth layer (the bitmask).
 fn ao_label(e: Estimator, kind: usize, bent: bool, second: bool) -> &'static str {
-    if second {
-        let names = if bent {
-            [
-                "bitmask_second_bent",
-                "bitmask_second_bent_layers_merge",
-                "bitmask_second_bent_layers",
-            ]
-        } else {
-            [
-                "bitmask_second",
-                "bitmask_second_layers_merge",
-                "bitmask_second_layers",
-            ]
-        };
-        return names[kind];
-    }
-    if bent {
-        let names = match e {
-            Estimator::Hbao => ["hbao_bent", "hbao_bent_layers_merge", "hbao_bent_layers"],
-            Estimator::Bitmask => [
-                "bitmask_bent",
-                "bitmask_bent_layers_merge",
-                "bitmask_bent_layers",
-            ],
-            _ => ["gtao_bent", "gtao_bent_layers_merge", "gtao_bent_layers"],
-        };
-        return names[kind];
-    }
-    let names: [&'static str; 3] = match e {
-        Estimator::Hbao => ["hbao", "hbao_layers_merge", "hbao_layers"],
-        Estimator::Gtao => ["gtao", "gtao_layers_merge", "gtao_layers"],
-        Estimator::Vo => ["vo", "vo_layers_merge", "vo_layers"],
-        Estimator::Vao => ["vao", "vao_layers_merge", "vao_layers"],
-        Estimator::Sao => ["sao", "sao_layers_merge", "sao_layers"],
-        Estimator::VoArea => ["vo_area", "vo_area_layers_merge", "vo_area_layers"],
-        Estimator::Bitmask => ["bitmask", "bitmask_layers_merge", "bitmask_layers"],
+    let names: [&'static str; 5] = match (e, bent, second) {
+        (_, true, true) => [
+            "bitmask_second_bent",
+            "bitmask_second_bent_layers_merge",
+            "bitmask_second_bent_layers",
+            "bitmask_second_bent_packed",
+            "bitmask_second_bent_layers_packed",
+        ],
+        (_, false, true) => [
+            "bitmask_second",
+            "bitmask_second_layers_merge",
+            "bitmask_second_layers",
+            "bitmask_second_packed",
+            "bitmask_second_layers_packed",
+        ],
+        (Estimator::Hbao, true, _) => [
+            "hbao_bent",
+            "hbao_bent_layers_merge",
+            "hbao_bent_layers",
+            "hbao_bent_packed",
+            "hbao_bent_layers_packed",
+        ],
+        (Estimator::Bitmask, true, _) => [
+            "bitmask_bent",
+            "bitmask_bent_layers_merge",
+            "bitmask_bent_layers",
+            "bitmask_bent_packed",
+            "bitmask_bent_layers_packed",
+        ],
+        (_, true, _) => [
+            "gtao_bent",
+            "gtao_bent_layers_merge",
+            "gtao_bent_layers",
+            "gtao_bent_packed",
+            "gtao_bent_layers_packed",
+        ],
+        (Estimator::Hbao, ..) => [
+            "hbao",
+            "hbao_layers_merge",
+            "hbao_layers",
+            "hbao_packed",
+            "hbao_layers_packed",
+        ],
+        (Estimator::Gtao, ..) => [
+            "gtao",
+            "gtao_layers_merge",
+            "gtao_layers",
+            "gtao_packed",
+            "gtao_layers_packed",
+        ],
+        (Estimator::Vo, ..) => [
+            "vo",
+            "vo_layers_merge",
+            "vo_layers",
+            "vo_packed",
+            "vo_layers_packed",
+        ],
+        (Estimator::Vao, ..) => [
+            "vao",
+            "vao_layers_merge",
+            "vao_layers",
+            "vao_packed",
+            "vao_layers_packed",
+        ],
+        (Estimator::Sao, ..) => [
+            "sao",
+            "sao_layers_merge",
+            "sao_layers",
+            "sao_packed",
+            "sao_layers_packed",
+        ],
+        (Estimator::VoArea, ..) => [
+            "vo_area",
+            "vo_area_layers_merge",
+            "vo_area_layers",
+            "vo_area_packed",
+            "vo_area_layers_packed",
+        ],
+        (Estimator::Bitmask, ..) => [
+            "bitmask",
+            "bitmask_layers_merge",
+            "bitmask_layers",
+            "bitmask_packed",
+            "bitmask_layers_packed",
+        ],
     };
     names[kind]
 }
