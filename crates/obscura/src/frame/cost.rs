@@ -113,12 +113,11 @@ const BITMASK_SOLID: Work = work(1.0, 2.0, 59.0);
 /// Runs of occluded sectors per slice assumed (an open surface has none, a corner one or
 /// two).
 pub const BITMASK_RUNS: f64 = 1.5;
-/// The spatial denoiser (denoise.wgsl, merge.wgsl) per tap: prepared and AO fetches, the
-/// mirror at the border, the plane and normal weights (one exp), the moments; per pixel:
-/// the centre, the tolerance, the 2 × 2 solve. Reading the AO packed with its geometry
-/// (denoise_packed.wgsl): one fetch a tap, the normal's z from its unit length.
-const DENOISE_TAP: Work = work(2.0, 1.0, 55.0);
-const DENOISE_TAP_PACKED: Work = work(1.0, 2.0, 62.0);
+/// The spatial denoiser (denoise.wgsl, merge.wgsl) per tap: the packed AO and geometry's
+/// fetch, the normal's z from its unit length, the mirror at the border, the plane and
+/// normal weights (one exp), the moments; per pixel: the centre, the tolerance, the 2 × 2
+/// solve.
+const DENOISE_TAP: Work = work(1.0, 2.0, 62.0);
 const DENOISE_PIXEL: Work = work(1.0, 4.0, 40.0);
 /// The prepare pass (prepare.wgsl): linearise the depth, normals from the caller's
 /// texture or from the depth's four neighbours (normals_reconstruct.wgsl; two more when
@@ -148,14 +147,9 @@ pub fn ao_work(o: &AoOptions, second_layer: bool) -> Option<Work> {
     }
 }
 
-fn denoise_work(period: u32, packed: bool) -> Work {
+fn denoise_work(period: u32) -> Work {
     let taps = ((period + 1) * (period + 1)) as f64;
-    let tap = if packed {
-        DENOISE_TAP_PACKED
-    } else {
-        DENOISE_TAP
-    };
-    DENOISE_PIXEL + tap * taps
+    DENOISE_PIXEL + DENOISE_TAP * taps
 }
 
 /// Every pass of `o`'s frame at `size` pixels, prepare first, counted; `normals_given`:
@@ -220,8 +214,8 @@ pub fn frame_cost(o: &AoOptions, size: [u32; 2], normals_given: bool) -> Vec<Pas
 fn step_work(o: &AoOptions, st: &Step, second: bool) -> Option<Work> {
     match st.pass {
         Pass::AoFull { .. } | Pass::AoLayered { .. } => ao_work(o, second),
-        Pass::Denoise { packed, .. } if o.denoise == Denoise::Spatial => {
-            Some(denoise_work(o.pattern_period(), packed))
+        Pass::Denoise { .. } if o.denoise == Denoise::Spatial => {
+            Some(denoise_work(o.pattern_period()))
         }
         _ => None,
     }

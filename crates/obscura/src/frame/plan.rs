@@ -457,8 +457,16 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         }
     };
     if o.history > 0 {
+        // Before the spatial denoiser the accumulated AO is packed with its geometry.
+        let packed = o.denoise == Denoise::Spatial;
         let more = o.denoise != Denoise::None || upsample;
-        let next = if more { other(current) } else { Res::Output };
+        let next = if packed {
+            Res::AoPacked
+        } else if more {
+            other(current)
+        } else {
+            Res::Output
+        };
         let mut views = vec![
             (1, src),
             (2, current),
@@ -480,6 +488,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             Pass::Temporal {
                 layers: src_layers,
                 bent: accumulate_bent,
+                packed,
             },
             views,
             FrameAt::Work,
@@ -496,20 +505,13 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
                 Res::Output
             };
             let mut views = vec![(2, current), (3, next)];
-            if !packed {
-                views.insert(0, (1, src));
-            }
             if filter_bent {
                 let next = bent_next(bent_current, upsample_bent);
                 views.extend([(4, bent_current), (5, next)]);
                 bent_current = next;
             }
             steps.push(step(
-                Pass::Denoise {
-                    layers: src_layers && !packed,
-                    bent: filter_bent,
-                    packed,
-                },
+                Pass::Denoise { bent: filter_bent },
                 views,
                 FrameAt::Work,
                 Grid::Level(work_level),
@@ -622,35 +624,33 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         }
     };
     if o.history > 0 {
+        let next = if o.denoise == Denoise::Spatial {
+            Res::AoPacked
+        } else {
+            other(current)
+        };
         steps.push(step(
             Pass::Temporal {
                 layers: false,
                 bent: false,
+                packed: next == Res::AoPacked,
             },
             vec![
                 (1, Res::Scaled),
                 (2, current),
                 (3, Res::HistoryPrev),
                 (4, Res::HistoryNext),
-                (5, other(current)),
+                (5, next),
             ],
             FrameAt::Work,
             Grid::Work,
         ));
-        current = other(current);
+        current = next;
     }
     if o.denoise == Denoise::Spatial {
         steps.push(step(
-            Pass::Denoise {
-                layers: false,
-                bent: false,
-                packed,
-            },
-            if packed {
-                vec![(2, current), (3, other(current))]
-            } else {
-                vec![(1, Res::Scaled), (2, current), (3, other(current))]
-            },
+            Pass::Denoise { bent: false },
+            vec![(2, current), (3, other(current))],
             FrameAt::Work,
             Grid::Work,
         ));
@@ -671,8 +671,9 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
 }
 
 /// Whether the AO pass stores its AO packed beside the pixel's geometry
-/// (passes/estimators/ao_packed.wgsl): when the spatial denoiser reads it next (no temporal
-/// pass between), whose taps are then one fetch each instead of two.
+/// (passes/estimators/ao_packed.wgsl): when the spatial denoiser reads it next, whose taps
+/// are then one fetch each instead of two. With a temporal pass between, that pass packs
+/// its output instead (it reads the AO alone).
 fn packs_ao(o: &AoOptions) -> bool {
     o.denoise == Denoise::Spatial && o.history == 0
 }

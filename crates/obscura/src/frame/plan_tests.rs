@@ -102,11 +102,7 @@ fn the_default_is_one_fused_pass_over_2x2_layers_then_the_denoiser() {
                 packed: true,
                 ..
             },
-            Pass::Denoise {
-                layers: false,
-                bent: false,
-                packed: true
-            }
+            Pass::Denoise { bent: false }
         ]
     ));
     assert_eq!(p.textures(), vec![Res::PreparedLayers, Res::AoPacked]);
@@ -219,21 +215,21 @@ fn history_adds_a_temporal_pass_and_two_textures_that_live_across_frames() {
     let p = plan(o);
     assert_eq!(p.steps.len(), still.steps.len() + 1);
     assert!(matches!(p.steps[1].pass, Pass::Temporal { .. }));
-    // The temporal pass reads the AO alone, so nothing is packed: the denoiser reads the
-    // prepared layers and the accumulated AO apart.
+    // The temporal pass reads the AO alone and packs what it accumulates for the denoiser.
     assert!(matches!(
         p.steps[0].pass,
         Pass::AoLayered { packed: false, .. }
     ));
     assert!(matches!(
-        p.steps[2].pass,
-        Pass::Denoise {
+        p.steps[1].pass,
+        Pass::Temporal {
             layers: true,
-            packed: false,
+            packed: true,
             ..
         }
     ));
-    assert!(!p.textures().contains(&Res::AoPacked));
+    assert_eq!(p.steps[1].views[4], (5, Res::AoPacked));
+    assert_eq!(p.steps[2].views[0], (2, Res::AoPacked));
     let across: Vec<Res> = p
         .textures()
         .into_iter()

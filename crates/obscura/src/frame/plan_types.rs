@@ -32,8 +32,8 @@ pub enum Res {
     MomentsMip(u32),
     /// `ao_work`: work size, AO_FORMAT (when post-processing follows the AO pass).
     AoWork,
-    /// `ao_packed`: work size, AO_PACKED_FORMAT: the AO beside its geometry, when the
-    /// spatial denoiser reads the AO pass's output (`packs_ao` in plan.rs).
+    /// `ao_packed`: work size, AO_PACKED_FORMAT: the AO beside its geometry, written by the
+    /// pass before the spatial denoiser (the AO pass or the temporal pass) for it.
     AoPacked,
     /// `ao_tmp`: work size, AO_FORMAT (between the temporal pass and the denoiser).
     AoTmp,

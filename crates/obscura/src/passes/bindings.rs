@@ -201,21 +201,12 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Denoise {
-            layers,
-            bent,
-            packed,
-        } => {
-            // Packed taps carry their geometry: no prepared source at 1.
-            let mut v = if packed {
-                vec![]
-            } else {
-                vec![texture_entry(1, UNFILTERED, dim(layers))]
-            };
-            v.extend([
+        // The packed taps carry their geometry: no prepared source at 1.
+        Pass::Denoise { bent } => {
+            let mut v = vec![
                 texture_entry(2, UNFILTERED, D2),
                 storage_entry(3, AO_FORMAT, D2),
-            ]);
+            ];
             if bent {
                 v.extend([
                     texture_entry(4, UNFILTERED, D2),
@@ -224,13 +215,17 @@ pub fn layout_entries(pass: Pass) -> Vec<wgpu::BindGroupLayoutEntry> {
             }
             v
         }
-        Pass::Temporal { layers, bent } => {
+        Pass::Temporal {
+            layers,
+            bent,
+            packed,
+        } => {
             let mut v = vec![
                 texture_entry(1, UNFILTERED, dim(layers)),
                 texture_entry(2, UNFILTERED, D2),
                 texture_entry(3, UNFILTERED, D2),
                 storage_entry(4, HISTORY_FORMAT, D2),
-                storage_entry(5, AO_FORMAT, D2),
+                storage_entry(5, ao_format(packed), D2),
             ];
             if bent {
                 v.extend([

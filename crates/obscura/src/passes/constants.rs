@@ -10,10 +10,10 @@ pub const WORKGROUP_SIZE: u32 = 8;
 pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Storage format of the AO output: one channel, 1 = unoccluded, 0 = fully occluded.
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Storage format of the AO beside its pixel's geometry, written by the AO pass when the
-/// spatial denoiser reads it next: `vec4(linear depth, normal x, normal y, ±(1 + AO))`, the
-/// sign the normal's z's (passes/estimators/ao_packed.wgsl), so that each of the denoiser's
-/// taps is one fetch instead of two.
+/// Storage format of the AO beside its pixel's geometry, written by the pass the spatial
+/// denoiser reads (the AO pass, or the temporal pass): `vec4(linear depth, normal x,
+/// normal y, ±(1 + AO))`, the sign the normal's z's (passes/estimators/ao_packed.wgsl), so
+/// that each of the denoiser's taps is one fetch instead of two.
 pub const AO_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Storage format of the full-resolution linear depth written by the fused downsampling
 /// prepare pass ([`PrepareStore::Down`](crate::passes::shader::PrepareStore::Down)).

@@ -197,11 +197,7 @@ fn timed_runs_report_every_pass_in_order() {
         ),
         (
             AoOptions::default(),
-            &[
-                "prepare_float_split",
-                "gtao_layers_packed",
-                "denoise_packed",
-            ],
+            &["prepare_float_split", "gtao_layers_packed", "denoise"],
         ),
         (
             AoOptions {
@@ -211,8 +207,8 @@ fn timed_runs_report_every_pass_in_order() {
             &[
                 "prepare_float_split",
                 "gtao_layers_merge",
-                "temporal_from_layers",
-                "denoise_from_layers",
+                "temporal_from_layers_packed",
+                "denoise",
             ],
         ),
         (

@@ -3,9 +3,9 @@
 use super::*;
 
 /// Denoising matches its CPU mirror, applied to the same frame's AO without denoising:
-/// the spatial denoiser at full resolution (randomized: 5×5; fused 2×2 deinterleaving: 3×3,
-/// reading the AO packed with its geometry, or after the temporal pass the prepared layers
-/// and the AO apart) and half resolution (the denoised working AO), and
+/// the spatial denoiser at full resolution (randomized: 5×5; fused 2×2 deinterleaving: 3×3;
+/// its taps packed by the AO pass, or after it by the temporal pass) and half resolution
+/// (the denoised working AO), and
 /// the box and tent downsamples followed by upsampling (the output); and the denoiser is
 /// edge-aware: on a step edge it leaves the open near side open.
 #[test]
@@ -49,8 +49,8 @@ fn denoise_matches_cpu_reference_and_stops_at_edges() {
                 ..randomized()
             },
         ),
-        // After the temporal pass (its first frame) the denoiser reads the prepared layers
-        // and the AO apart; straight after the AO pass, the AO packed with its geometry.
+        // After the temporal pass (its first frame), which packs the AO for the denoiser as
+        // the AO pass does where nothing runs between them.
         (
             Resolution::Full,
             AoOptions {

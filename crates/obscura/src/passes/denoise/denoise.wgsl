@@ -24,9 +24,10 @@
 // extrapolate the slope across the border from noise alone (the edge pixel has no taps
 // beyond it, unlike a crease, where the other side exists but is another surface).
 // Sky taps are skipped; sky pixels pass through. Bent normals, when on, get the same fit
-// of their offsets from the taps' normals (denoise_bent.wgsl). A tap's prepared value and
-// AO come from denoise_split.wgsl or denoise_packed.wgsl. CPU mirror: src/reference.rs,
-// `denoise`.
+// of their offsets from the taps' normals (denoise_bent.wgsl). A tap's AO and prepared
+// value come in one fetch: the pass before (the AO pass or the temporal pass) stores them
+// packed (estimators/ao_packed.wgsl), half the fetches of reading the two apart. CPU
+// mirror: src/reference.rs, `denoise`.
 
 override PERIOD: u32 = 2u;
 
@@ -36,7 +37,13 @@ struct DenoiseTap {
     ao: f32,
 }
 
+fn denoise_tap(q: vec2<i32>) -> DenoiseTap {
+    let t = textureLoad(ao_in, q, 0);
+    return DenoiseTap(unpack_prepared(t), abs(t.w) - 1.0);
+}
+
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(2) var ao_in: texture_2d<f32>;
 @group(0) @binding(3) var ao_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(WG_SIZE, WG_SIZE)

@@ -2,9 +2,10 @@
 // vec4(linear depth, normal x, normal y, ±(1 + AO)), the sign the normal's z's, whose
 // magnitude follows from the unit length. A tap of the denoiser is then one fetch where
 // it was two (the prepared value and the AO), and a fetch costs as much as some forty
-// operations on a CPU adapter (BENCHMARKS.md). Written by ao_store_packed.wgsl, read by
-// denoise/denoise_packed.wgsl; a storage layout only, so the CPU mirror of the denoiser
-// (src/reference.rs, `denoise`) reads the prepared values and the AO as they are.
+// operations on a CPU adapter (BENCHMARKS.md). Written by ao_store_packed.wgsl and
+// temporal/temporal_out_packed.wgsl, read by denoise/denoise.wgsl; a storage layout only,
+// so the CPU mirror of the denoiser (src/reference.rs, `denoise`) reads the prepared values
+// and the AO as they are.
 
 fn pack_ao(prepared: vec4<f32>, ao: f32) -> vec4<f32> {
     return vec4<f32>(prepared.xyz, select(1.0 + ao, -1.0 - ao, prepared.w < 0.0));

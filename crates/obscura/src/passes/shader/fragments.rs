@@ -223,48 +223,43 @@ impl Pass {
                 include_str!("../upsample/upsample_scaled.wgsl"),
                 UPSAMPLE_BILATERAL,
             ],
-            Pass::Denoise {
+            Pass::Denoise { bent } => vec![
+                include_str!("../estimators/ao_packed.wgsl"),
+                include_str!("../denoise/merge.wgsl"),
+                if bent {
+                    include_str!("../denoise/denoise_bent.wgsl")
+                } else {
+                    include_str!("../denoise/denoise_bent_none.wgsl")
+                },
+                OUTPUT,
+                include_str!("../denoise/denoise.wgsl"),
+            ],
+            Pass::Temporal {
                 layers,
                 bent,
                 packed,
             } => {
-                let taps: &[&str] = if packed {
+                let out: &[&str] = if packed {
                     &[
                         include_str!("../estimators/ao_packed.wgsl"),
-                        include_str!("../denoise/denoise_packed.wgsl"),
+                        include_str!("../temporal/temporal_out_packed.wgsl"),
                     ]
                 } else {
-                    &[
-                        prepared_source(layers),
-                        include_str!("../denoise/denoise_split.wgsl"),
-                    ]
+                    &[OUTPUT, include_str!("../temporal/temporal_out_plain.wgsl")]
                 };
                 [
-                    taps,
                     &[
-                        include_str!("../denoise/merge.wgsl"),
+                        prepared_source(layers),
                         if bent {
-                            include_str!("../denoise/denoise_bent.wgsl")
+                            include_str!("../temporal/temporal_bent.wgsl")
                         } else {
-                            include_str!("../denoise/denoise_bent_none.wgsl")
+                            include_str!("../temporal/temporal_bent_none.wgsl")
                         },
-                        OUTPUT,
-                        include_str!("../denoise/denoise.wgsl"),
-                    ],
+                    ][..],
+                    out,
+                    &[include_str!("../temporal/temporal.wgsl")][..],
                 ]
                 .concat()
-            }
-            Pass::Temporal { layers, bent } => {
-                vec![
-                    prepared_source(layers),
-                    if bent {
-                        include_str!("../temporal/temporal_bent.wgsl")
-                    } else {
-                        include_str!("../temporal/temporal_bent_none.wgsl")
-                    },
-                    OUTPUT,
-                    include_str!("../temporal/temporal.wgsl"),
-                ]
             }
             Pass::AoDownsample { .. } => vec![include_str!("../denoise/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("../prepare/resolve_depth.wgsl")],

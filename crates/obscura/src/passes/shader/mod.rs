@@ -116,17 +116,17 @@ pub enum Pass {
         bent: bool,
         full_normals: bool,
     },
-    /// The edge-aware spatial denoiser; `layers`: the prepared source is the deinterleaved
-    /// layers (fused deinterleaved modes); `bent`: bent normals filtered too; `packed`: the
-    /// taps read from the AO pass's packed output, one fetch each (`layers` then false).
-    Denoise {
+    /// The edge-aware spatial denoiser, its taps read from the AO packed with its geometry
+    /// ([`AO_PACKED_FORMAT`], one fetch each); `bent`: bent normals filtered too.
+    Denoise { bent: bool },
+    /// Temporal accumulation (history reprojection, rejection, clamp, blend); `bent`: bent
+    /// normals accumulated too; `packed`: its AO stored packed with its geometry for the
+    /// spatial denoiser that follows ([`AO_PACKED_FORMAT`]).
+    Temporal {
         layers: bool,
         bent: bool,
         packed: bool,
     },
-    /// Temporal accumulation (history reprojection, rejection, clamp, blend); `bent`: bent
-    /// normals accumulated too.
-    Temporal { layers: bool, bent: bool },
     /// AO 2×2 → 1 by seed 003's box or tent filter.
     AoDownsample { tent: bool },
     /// Multisampled depth → one raw depth per pixel (before [`Pass::Prepare`], which then
@@ -230,24 +230,16 @@ impl Pass {
             }
         }
         for b in [false, true] {
-            for (layers, packed) in [(false, false), (true, false), (false, true)] {
-                v.push(Pass::Denoise {
-                    layers,
-                    bent: b,
-                    packed,
-                });
+            v.extend([Pass::Denoise { bent: b }, Pass::AoDownsample { tent: b }]);
+            for layers in [false, true] {
+                for packed in [false, true] {
+                    v.push(Pass::Temporal {
+                        layers,
+                        bent: b,
+                        packed,
+                    });
+                }
             }
-            v.extend([
-                Pass::Temporal {
-                    layers: b,
-                    bent: false,
-                },
-                Pass::Temporal {
-                    layers: b,
-                    bent: true,
-                },
-                Pass::AoDownsample { tent: b },
-            ]);
         }
         for layers in [false, true] {
             v.extend([
@@ -367,24 +359,21 @@ impl Pass {
                 };
                 names[bent as usize]
             }
-            Pass::Denoise {
+            Pass::Denoise { bent } => ["denoise", "denoise_bent"][bent as usize],
+            Pass::Temporal {
                 layers,
                 bent,
                 packed,
             } => [
-                "denoise",
-                "denoise_from_layers",
-                "denoise_packed",
-                "denoise_bent",
-                "denoise_bent_from_layers",
-                "denoise_bent_packed",
-            ][layers as usize + 2 * packed as usize + 3 * bent as usize],
-            Pass::Temporal { layers, bent } => [
                 "temporal",
                 "temporal_from_layers",
+                "temporal_packed",
+                "temporal_from_layers_packed",
                 "temporal_bent",
                 "temporal_bent_from_layers",
-            ][layers as usize + 2 * bent as usize],
+                "temporal_bent_packed",
+                "temporal_bent_from_layers_packed",
+            ][layers as usize + 2 * packed as usize + 4 * bent as usize],
             Pass::AoDownsample { tent: false } => "ao_downsample_box",
             Pass::AoDownsample { tent: true } => "ao_downsample_tent",
             Pass::ResolveDepth => "resolve_depth",

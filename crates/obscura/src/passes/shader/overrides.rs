@@ -80,14 +80,7 @@ impl Pass {
                 v
             }
             Pass::Downsample { rule: r, level } => rule(r, level),
-            Pass::Denoise { layers, .. } => {
-                let period = ("PERIOD", options.pattern_period() as f64);
-                if layers {
-                    vec![period, split]
-                } else {
-                    vec![period]
-                }
-            }
+            Pass::Denoise { .. } => vec![("PERIOD", options.pattern_period() as f64)],
             Pass::Temporal { layers, .. } => {
                 if layers {
                     vec![split]

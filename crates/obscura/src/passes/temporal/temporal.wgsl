@@ -16,14 +16,14 @@
 //     exponential one.
 // Without valid history (first frame, cut, resize, sky, disocclusion) frames = 1, AO =
 // current. Bent normals, when on, follow with the same texels and weights
-// (temporal_bent.wgsl). Composed after prepared_full.wgsl or prepared_layers.wgsl.
+// (temporal_bent.wgsl). Composed after prepared_full.wgsl or prepared_layers.wgsl and a
+// temporal_out_*.wgsl (the AO alone, or packed with its geometry for the spatial denoiser).
 // CPU mirror: src/reference.rs, `temporal`.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(2) var ao_in: texture_2d<f32>;
 @group(0) @binding(3) var history_in: texture_2d<f32>;
 @group(0) @binding(4) var history_out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(5) var ao_out: texture_storage_2d<r32float, write>;
 
 // A unit normal as one float: octahedral coordinates (Meyer et al. 2010, "On
 // floating-point normal vectors"), 12 bits each, q.x * 4096 + q.y < 2^24 so exact in f32.
@@ -127,6 +127,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         frames = 0.0;
     }
     textureStore(history_out, p, vec4<f32>(ao, frames, centre.x, pack_normal(centre.yzw)));
-    store_output(p, ao);
+    store_temporal(p, ao, centre);
     bent_finish(p, kept, 1.0 / max(frames, 1.0));
 }
