@@ -340,7 +340,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             Grid::Level(k),
         ));
     }
-    let packed = packs_ao(o);
+    let (packed, temporal_packs) = packing(o);
     let ao_target = if direct {
         Res::Output
     } else if packed {
@@ -457,10 +457,8 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         }
     };
     if o.history > 0 {
-        // Before the spatial denoiser the accumulated AO is packed with its geometry.
-        let packed = o.denoise == Denoise::Spatial;
         let more = o.denoise != Denoise::None || upsample;
-        let next = if packed {
+        let next = if temporal_packs {
             Res::AoPacked
         } else if more {
             other(current)
@@ -488,7 +486,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
             Pass::Temporal {
                 layers: src_layers,
                 bent: accumulate_bent,
-                packed,
+                packed: temporal_packs,
             },
             views,
             FrameAt::Work,
@@ -574,7 +572,7 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         grid,
     };
     let estimator = o.estimator;
-    let packed = packs_ao(o);
+    let (packed, temporal_packs) = packing(o);
     let ao_target = if packed { Res::AoPacked } else { Res::AoWork };
     let mut steps = vec![step(
         Pass::Rescale,
@@ -624,7 +622,7 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         }
     };
     if o.history > 0 {
-        let next = if o.denoise == Denoise::Spatial {
+        let next = if temporal_packs {
             Res::AoPacked
         } else {
             other(current)
@@ -633,7 +631,7 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
             Pass::Temporal {
                 layers: false,
                 bent: false,
-                packed: next == Res::AoPacked,
+                packed: temporal_packs,
             },
             vec![
                 (1, Res::Scaled),
@@ -670,12 +668,13 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
     steps
 }
 
-/// Whether the AO pass stores its AO packed beside the pixel's geometry
-/// (passes/estimators/ao_packed.wgsl): when the spatial denoiser reads it next, whose taps
-/// are then one fetch each instead of two. With a temporal pass between, that pass packs
-/// its output instead (it reads the AO alone).
-fn packs_ao(o: &AoOptions) -> bool {
-    o.denoise == Denoise::Spatial && o.history == 0
+/// Which pass stores the AO packed beside the pixel's geometry for the spatial denoiser
+/// (passes/estimators/ao_packed.wgsl), whose taps are then one fetch each instead of two:
+/// the pass before it, the temporal pass where one runs (it reads the AO alone), else the
+/// AO pass. `(the AO pass, the temporal pass)`.
+fn packing(o: &AoOptions) -> (bool, bool) {
+    let denoised = o.denoise == Denoise::Spatial;
+    (denoised && o.history == 0, denoised && o.history > 0)
 }
 
 /// Whether the bent normals are upsampled to full resolution (below full resolution, unless

@@ -35,7 +35,8 @@ pub enum Res {
     /// `ao_packed`: work size, AO_PACKED_FORMAT: the AO beside its geometry, written by the
     /// pass before the spatial denoiser (the AO pass or the temporal pass) for it.
     AoPacked,
-    /// `ao_tmp`: work size, AO_FORMAT (between the temporal pass and the denoiser).
+    /// `ao_tmp`: work size, AO_FORMAT (the working AO's second texture: what a pass after
+    /// the AO pass writes when it reads [`Res::AoWork`]).
     AoTmp,
     /// `ao_layers`: work layer size × N², AO_FORMAT (unfused deinterleaved).
     AoLayers,

@@ -70,7 +70,8 @@ pub fn lit_format(packed: bool) -> wgpu::TextureFormat {
     }
 }
 
-/// The AO pass's output: packed beside the geometry for the denoiser, or the AO alone.
+/// The AO or temporal pass's AO output: packed beside the geometry for the denoiser, or
+/// the AO alone.
 pub fn ao_format(packed: bool) -> wgpu::TextureFormat {
     if packed {
         AO_PACKED_FORMAT
