@@ -449,19 +449,12 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         (false, work_prepared)
     };
     let mut current = ao_target;
-    let other = |r: Res| {
-        if r == Res::AoWork {
-            Res::AoTmp
-        } else {
-            Res::AoWork
-        }
-    };
     if o.history > 0 {
         let more = o.denoise != Denoise::None || upsample;
         let next = if temporal_packs {
             Res::AoPacked
         } else if more {
-            other(current)
+            other_ao(current)
         } else {
             Res::Output
         };
@@ -498,7 +491,7 @@ fn plan_steps(o: &AoOptions, pyramid_levels: u32) -> (PrepareStore, Vec<Step>) {
         Denoise::None => {}
         Denoise::Spatial => {
             let next = if upsample {
-                other(current)
+                other_ao(current)
             } else {
                 Res::Output
             };
@@ -614,18 +607,11 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
     }
     // After the AO pass: [temporal] → [denoise], alternating the two working textures.
     let mut current = ao_target;
-    let other = |r: Res| {
-        if r == Res::AoWork {
-            Res::AoTmp
-        } else {
-            Res::AoWork
-        }
-    };
     if o.history > 0 {
         let next = if temporal_packs {
             Res::AoPacked
         } else {
-            other(current)
+            other_ao(current)
         };
         steps.push(step(
             Pass::Temporal {
@@ -648,11 +634,11 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
     if o.denoise == Denoise::Spatial {
         steps.push(step(
             Pass::Denoise { bent: false },
-            vec![(2, current), (3, other(current))],
+            vec![(2, current), (3, other_ao(current))],
             FrameAt::Work,
             Grid::Work,
         ));
-        current = other(current);
+        current = other_ao(current);
     }
     steps.push(step(
         Pass::UpsampleScaled,
@@ -666,6 +652,16 @@ fn plan_scaled_steps(o: &AoOptions) -> Vec<Step> {
         Grid::Level(0),
     ));
     steps
+}
+
+/// The work-size AO texture a post-processing pass writes when it reads `r`: the other
+/// of the two it alternates between (AoWork, AoTmp).
+fn other_ao(r: Res) -> Res {
+    if r == Res::AoWork {
+        Res::AoTmp
+    } else {
+        Res::AoWork
+    }
 }
 
 /// Which pass stores the AO packed beside the pixel's geometry for the spatial denoiser

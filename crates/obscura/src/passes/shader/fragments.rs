@@ -239,27 +239,25 @@ impl Pass {
                 bent,
                 packed,
             } => {
-                let out: &[&str] = if packed {
-                    &[
+                let (store, out) = if packed {
+                    (
                         include_str!("../estimators/ao_packed.wgsl"),
                         include_str!("../temporal/temporal_out_packed.wgsl"),
-                    ]
+                    )
                 } else {
-                    &[OUTPUT, include_str!("../temporal/temporal_out_plain.wgsl")]
+                    (OUTPUT, include_str!("../temporal/temporal_out_plain.wgsl"))
                 };
-                [
-                    &[
-                        prepared_source(layers),
-                        if bent {
-                            include_str!("../temporal/temporal_bent.wgsl")
-                        } else {
-                            include_str!("../temporal/temporal_bent_none.wgsl")
-                        },
-                    ][..],
+                vec![
+                    prepared_source(layers),
+                    if bent {
+                        include_str!("../temporal/temporal_bent.wgsl")
+                    } else {
+                        include_str!("../temporal/temporal_bent_none.wgsl")
+                    },
+                    store,
                     out,
-                    &[include_str!("../temporal/temporal.wgsl")][..],
+                    include_str!("../temporal/temporal.wgsl"),
                 ]
-                .concat()
             }
             Pass::AoDownsample { .. } => vec![include_str!("../denoise/ao_downsample.wgsl")],
             Pass::ResolveDepth => vec![include_str!("../prepare/resolve_depth.wgsl")],

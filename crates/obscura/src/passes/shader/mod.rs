@@ -399,96 +399,37 @@ impl Pass {
     }
 }
 
+/// The five labels of one AO pass's base name, in [`ao_label`]'s `kind` order.
+macro_rules! ao_names {
+    ($base:literal) => {
+        [
+            $base,
+            concat!($base, "_layers_merge"),
+            concat!($base, "_layers"),
+            concat!($base, "_packed"),
+            concat!($base, "_layers_packed"),
+        ]
+    };
+}
+
 /// Labels of the AO passes: `kind` 0 = full resolution, 1 = layers with fused merge,
 /// 2 = layers kept for the interleave pass, 3 = full resolution packed for the denoiser,
 /// 4 = layers merged and packed; `bent`: with bent normals (GTAO, HBAO, bitmask);
 /// `second`: reading a second depth layer (the bitmask).
 fn ao_label(e: Estimator, kind: usize, bent: bool, second: bool) -> &'static str {
     let names: [&'static str; 5] = match (e, bent, second) {
-        (_, true, true) => [
-            "bitmask_second_bent",
-            "bitmask_second_bent_layers_merge",
-            "bitmask_second_bent_layers",
-            "bitmask_second_bent_packed",
-            "bitmask_second_bent_layers_packed",
-        ],
-        (_, false, true) => [
-            "bitmask_second",
-            "bitmask_second_layers_merge",
-            "bitmask_second_layers",
-            "bitmask_second_packed",
-            "bitmask_second_layers_packed",
-        ],
-        (Estimator::Hbao, true, _) => [
-            "hbao_bent",
-            "hbao_bent_layers_merge",
-            "hbao_bent_layers",
-            "hbao_bent_packed",
-            "hbao_bent_layers_packed",
-        ],
-        (Estimator::Bitmask, true, _) => [
-            "bitmask_bent",
-            "bitmask_bent_layers_merge",
-            "bitmask_bent_layers",
-            "bitmask_bent_packed",
-            "bitmask_bent_layers_packed",
-        ],
-        (_, true, _) => [
-            "gtao_bent",
-            "gtao_bent_layers_merge",
-            "gtao_bent_layers",
-            "gtao_bent_packed",
-            "gtao_bent_layers_packed",
-        ],
-        (Estimator::Hbao, ..) => [
-            "hbao",
-            "hbao_layers_merge",
-            "hbao_layers",
-            "hbao_packed",
-            "hbao_layers_packed",
-        ],
-        (Estimator::Gtao, ..) => [
-            "gtao",
-            "gtao_layers_merge",
-            "gtao_layers",
-            "gtao_packed",
-            "gtao_layers_packed",
-        ],
-        (Estimator::Vo, ..) => [
-            "vo",
-            "vo_layers_merge",
-            "vo_layers",
-            "vo_packed",
-            "vo_layers_packed",
-        ],
-        (Estimator::Vao, ..) => [
-            "vao",
-            "vao_layers_merge",
-            "vao_layers",
-            "vao_packed",
-            "vao_layers_packed",
-        ],
-        (Estimator::Sao, ..) => [
-            "sao",
-            "sao_layers_merge",
-            "sao_layers",
-            "sao_packed",
-            "sao_layers_packed",
-        ],
-        (Estimator::VoArea, ..) => [
-            "vo_area",
-            "vo_area_layers_merge",
-            "vo_area_layers",
-            "vo_area_packed",
-            "vo_area_layers_packed",
-        ],
-        (Estimator::Bitmask, ..) => [
-            "bitmask",
-            "bitmask_layers_merge",
-            "bitmask_layers",
-            "bitmask_packed",
-            "bitmask_layers_packed",
-        ],
+        (_, true, true) => ao_names!("bitmask_second_bent"),
+        (_, false, true) => ao_names!("bitmask_second"),
+        (Estimator::Hbao, true, _) => ao_names!("hbao_bent"),
+        (Estimator::Bitmask, true, _) => ao_names!("bitmask_bent"),
+        (_, true, _) => ao_names!("gtao_bent"),
+        (Estimator::Hbao, ..) => ao_names!("hbao"),
+        (Estimator::Gtao, ..) => ao_names!("gtao"),
+        (Estimator::Vo, ..) => ao_names!("vo"),
+        (Estimator::Vao, ..) => ao_names!("vao"),
+        (Estimator::Sao, ..) => ao_names!("sao"),
+        (Estimator::VoArea, ..) => ao_names!("vo_area"),
+        (Estimator::Bitmask, ..) => ao_names!("bitmask"),
     };
     names[kind]
 }
